@@ -1,0 +1,3 @@
+"""flexarm: finite-element substructuring and modal reduction for industrial robot arms."""
+
+__version__ = "0.1.0"
