@@ -1,0 +1,77 @@
+"""Atomic file output and input hashing (shared by every layer's caches and writers)."""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import os
+import tempfile
+from pathlib import Path
+from typing import Iterator
+
+__all__ = ["atomic_path", "file_digest", "digest", "cache_dir"]
+
+
+@contextlib.contextmanager
+def atomic_path(path, suffix: str | None = None) -> Iterator[Path]:
+    """Yield a temporary path next to ``path``; move it into place only on success.
+
+    Nothing half-written is ever left at ``path``: on any exception the temporary
+    file is removed and ``path`` is untouched.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> target = pathlib.Path(tempfile.mkdtemp()) / "out.txt"
+    >>> with atomic_path(target) as tmp:
+    ...     _ = tmp.write_text("done")
+    >>> target.read_text()
+    'done'
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    suffix = path.suffix if suffix is None else suffix
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".part{suffix}", dir=path.parent)
+    os.close(fd)
+    tmp_path = Path(tmp)
+    try:
+        yield tmp_path
+        os.replace(tmp_path, path)
+    finally:
+        if tmp_path.exists():
+            tmp_path.unlink()
+
+
+def file_digest(path) -> str:
+    """SHA-256 hex digest of a file's bytes."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def digest(*parts) -> str:
+    """SHA-256 hex digest of the ``repr`` of ``parts`` (bytes and arrays hashed by content)."""
+    h = hashlib.sha256()
+    for p in parts:
+        if isinstance(p, bytes | bytearray):
+            h.update(bytes(p))
+        elif hasattr(p, "tobytes") and hasattr(p, "dtype"):
+            h.update(str((p.dtype.str, p.shape)).encode())
+            h.update(p.tobytes())
+        else:
+            h.update(repr(p).encode())
+        h.update(b"\x00")
+    return h.hexdigest()
+
+
+def cache_dir() -> Path:
+    """Folder for expensive cached results (tet meshes, superelements).
+
+    ``$FLEXARM_CACHE`` if set, else ``~/.cache/flexarm``.
+    """
+    env = os.environ.get("FLEXARM_CACHE")
+    path = Path(env) if env else Path.home() / ".cache" / "flexarm"
+    path.mkdir(parents=True, exist_ok=True)
+    return path
