@@ -1,0 +1,191 @@
+"""Generalised symmetric eigenproblem K phi = omega^2 M phi and static solves.
+
+Eigensolvers are configured callables passed in (as scikit-fem passes
+``solver_eigen_scipy_sym``): ``modes(K, M, n=20, eigensolver=shift_invert(0.0))``.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from .boundary import DofSplit
+from .errors import ConvergenceError
+from .solvers import Factor, factorize
+from .tolerances import tol
+
+__all__ = ["Modes", "modes", "shift_invert", "auto_shift", "static_solve"]
+
+log = logging.getLogger(__name__)
+
+#: Below this many DOFs a dense solve is faster and exact.
+DENSE_LIMIT = 400
+
+
+@dataclass(frozen=True, eq=False)
+class Modes:
+    """Eigenpairs sorted by frequency.
+
+    Attributes
+    ----------
+    omega2 : (k,) float
+        Eigenvalues omega^2 [rad^2/s^2] (tiny negatives for rigid modes are kept).
+    vectors : (n, k) float
+        Mass-normalised mode shapes (phi^T M phi = I); the largest component of
+        each is positive, so results are reproducible.
+    shift : float
+        The spectral shift used [rad^2/s^2]; rigid modes are |omega^2| below
+        ``tol.rigid_mode * max(|shift|, ...)``.
+    """
+
+    omega2: np.ndarray
+    vectors: np.ndarray
+    shift: float = 0.0
+
+    @property
+    def omega(self) -> np.ndarray:
+        """(k,) angular frequencies [rad/s] (0 for rigid modes)."""
+        return np.sqrt(np.clip(self.omega2, 0.0, None))
+
+    @property
+    def freq_hz(self) -> np.ndarray:
+        """(k,) frequencies [Hz]."""
+        return self.omega / (2 * np.pi)
+
+    @property
+    def is_rigid(self) -> np.ndarray:
+        """(k,) bool: near-zero modes (rigid-body motions of an unsupported part)."""
+        scale = max(abs(self.shift), 1e-300)
+        return np.abs(self.omega2) < tol.rigid_mode * scale
+
+    @property
+    def n_rigid(self) -> int:
+        return int(self.is_rigid.sum())
+
+    def __len__(self) -> int:
+        return int(self.omega2.size)
+
+
+def auto_shift(K: sp.spmatrix, M: sp.spmatrix) -> float:
+    """A small negative shift [rad^2/s^2] that makes ``K - shift M`` definite.
+
+    ``-tol.auto_shift * median(K_ii / M_ii)``: far below the first elastic mode of any
+    reasonable mesh, so the ordering of the modes nearest the shift is the ordering of
+    the lowest modes, rigid ones included.
+    """
+    kd, md = K.diagonal(), M.diagonal()
+    ratio = kd[md > 0] / md[md > 0]
+    return -tol.auto_shift * float(np.median(ratio))
+
+
+def _normalise(omega2, vecs, M):
+    order = np.argsort(omega2, kind="stable")
+    omega2, vecs = omega2[order], vecs[:, order]
+    mnorm = np.sqrt(np.einsum("ik,ik->k", vecs, M @ vecs))
+    vecs = vecs / mnorm
+    idx = np.argmax(np.abs(vecs), axis=0)
+    signs = np.sign(vecs[idx, np.arange(vecs.shape[1])])
+    return omega2, vecs * np.where(signs == 0, 1.0, signs)
+
+
+def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: int | None = None):
+    """Eigensolver: ARPACK in shift-invert mode around ``sigma`` [rad^2/s^2].
+
+    ``sigma=None`` uses :func:`auto_shift` (safe for free parts).  The returned callable
+    ``solve(K, M, n, factor=None) -> Modes`` factorises ``K - sigma M`` once with the
+    chosen backend, or reuses ``factor`` when given (it must factor ``K - sigma M``).
+    The start vector is fixed, so repeated calls give identical results.
+    """
+
+    def solve(K, M, n: int, factor: Factor | None = None) -> Modes:
+        K = sp.csr_matrix(K)
+        M = sp.csr_matrix(M)
+        size = K.shape[0]
+        s = auto_shift(K, M) if sigma is None else float(sigma)
+        if n >= size - 1 or size <= DENSE_LIMIT:
+            w, v = sla.eigh(K.toarray(), M.toarray())
+            w, v = _normalise(w[:n], v[:, :n], M)
+            return Modes(w, v, s)
+        t0 = time.perf_counter()
+        if factor is None:
+            A = (K - s * M) if s != 0.0 else K
+            factor = factorize(A, backend=backend, spd=s <= 0.0)
+        v0 = np.random.default_rng(0).standard_normal(size)
+        k_ncv = ncv or min(size - 1, max(2 * n + 1, 20))
+        try:
+            w, v = spla.eigsh(
+                K, k=n, M=M, sigma=s, which="LM", OPinv=factor.as_operator(),
+                v0=v0, ncv=k_ncv, tol=tol.arpack,
+            )
+        except spla.ArpackNoConvergence as exc:
+            raise ConvergenceError(
+                f"ARPACK converged {len(exc.eigenvalues)} of {n} modes",
+                exc.eigenvalues, exc.eigenvectors,
+            ) from None
+        w, v = _normalise(w, v, M)
+        log.info("%d modes of %d DOF in %.2f s", n, size, time.perf_counter() - t0)
+        return Modes(w, v, s)
+
+    return solve
+
+
+def modes(K, M, n: int = 10, eigensolver=None, factor: Factor | None = None) -> Modes:
+    """The ``n`` lowest modes of ``K phi = omega^2 M phi``.
+
+    Parameters
+    ----------
+    K, M : (N, N) sparse
+        Stiffness [N/m] and mass [kg] (already reduced to the free DOFs).
+    n : int
+        Number of modes.
+    eigensolver : callable, optional
+        ``shift_invert(sigma)`` (default: automatic negative shift).
+    factor : Factor, optional
+        A factorisation of ``K - sigma M`` to reuse.
+
+    Examples
+    --------
+    >>> from flexarm.fe.mesh import TetMesh
+    >>> from flexarm.fe.assembly import assemble
+    >>> from flexarm.fe.material import MATERIALS
+    >>> K, M = assemble(TetMesh.box((1, 0.2, 0.2), (4, 1, 1)), MATERIALS["steel"])
+    >>> modes(K, M, n=8).n_rigid  # a free part
+    6
+    """
+    if n < 1:
+        raise ValueError(f"number of modes must be >= 1, got {n}")
+    solver = eigensolver or shift_invert()
+    return solver(K, M, n, factor=factor)
+
+
+def static_solve(K, f, split: DofSplit | None = None, u_fixed=0.0, factor: Factor | None = None,
+                 backend: str | None = None) -> np.ndarray:
+    """Displacements u (N,) or (N, k) [m] solving ``K u = f`` with DOFs eliminated.
+
+    Parameters
+    ----------
+    K : (N, N) sparse
+    f : (N,) or (N, k) float
+        Loads [N].
+    split : DofSplit, optional
+        Free/fixed partition; fixed DOFs get ``u_fixed`` (scalar or array).
+    factor : Factor, optional
+        Factor of the free-free block to reuse.
+    """
+    K = sp.csr_matrix(K)
+    f = np.asarray(f, dtype=float)
+    if split is None:
+        factor = factor or factorize(K, backend=backend)
+        return factor.solve(f)
+    rhs = f[split.free]
+    u_fix = np.broadcast_to(np.asarray(u_fixed, dtype=float), (split.fixed.size,) + f.shape[1:])
+    if np.any(u_fix):
+        rhs = rhs - split.coupling(K) @ u_fix
+    factor = factor or factorize(split.condense(K), backend=backend)
+    return split.expand(factor.solve(rhs), u_fix)
