@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Install flexarm on a fresh Debian/Ubuntu machine: system OpenGL libraries for
+# off-screen PyVista rendering (EGL + Mesa, with OSMesa as a fallback), then the
+# package itself.  Usage: bash install.sh [--test]   (--test adds the test extras)
+set -euo pipefail
+cd "$(dirname "$0")"
+
+GL_PACKAGES="libegl1 libgl1 libgl1-mesa-dri libosmesa6 libxrender1"
+need_gl=0
+for lib in libEGL.so.1 libOSMesa.so; do
+  ldconfig -p 2>/dev/null | grep -q "$lib" || need_gl=1
+done
+if [ "$need_gl" = 1 ] && command -v apt-get >/dev/null 2>&1; then
+  SUDO=""
+  if [ "$(id -u)" != 0 ]; then
+    if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+      echo "install.sh: not root and no sudo: install $GL_PACKAGES yourself for pictures" >&2
+      SUDO="skip"
+    fi
+  fi
+  if [ "$SUDO" != "skip" ]; then
+    echo "install.sh: installing OpenGL libraries for off-screen rendering: $GL_PACKAGES"
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $GL_PACKAGES >/dev/null
+  fi
+fi
+
+extras=""
+if [ "${1:-}" = "--test" ]; then extras="[test]"; fi
+python -m pip install --disable-pip-version-check -q -e ".${extras}"
+echo "install.sh: flexarm installed ($(python -c 'import flexarm; print(flexarm.__version__)'))"
