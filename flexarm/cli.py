@@ -188,6 +188,23 @@ def _run_modal(args) -> int:
 
 
 
+# --- demo ------------------------------------------------------------------------------
+def _add_demo(p: argparse.ArgumentParser) -> None:
+    p.add_argument("-o", "--output", default="flexarm-demo", help="output folder")
+
+
+@command("demo", "the main job on the built-in robot: tables and pictures in flexarm-demo/",
+         _add_demo)
+def _run_demo(args) -> int:
+    from .demo import run_demo
+
+    report = run_demo(args.output, progress=lambda s: print(s, file=sys.stderr))  # noqa: T201
+    for key, value in report.figures.items():
+        _print(f"{key:>28s}  {value:.6g}")
+    _print(f"demo finished in {report.seconds:.1f} s: open {report.folder / 'index.md'}")
+    return 0
+
+
 # ----------------------------------------------------------------------------- main
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
