@@ -1,0 +1,31 @@
+"""CAD surface in -> checked, unit-scaled -> tetrahedra out (the ``meshes`` layer).
+
+Imports only :mod:`flexarm.fe`.
+"""
+
+from .pipeline import mesh_part
+from .primitives import bar_surface, cylinder_surface, hollow_link_surface, write_surface
+from .quality import QualityReport, dihedral_angles, mesh_quality, radius_ratios
+from .repair import check_surface, repair_surface
+from .surface import UNITS, load_surface
+from .tetwild import tetrahedralize
+from .volume_io import read_volume_mesh, write_volume_mesh
+
+__all__ = [
+    "QualityReport",
+    "UNITS",
+    "bar_surface",
+    "check_surface",
+    "cylinder_surface",
+    "dihedral_angles",
+    "hollow_link_surface",
+    "load_surface",
+    "mesh_part",
+    "mesh_quality",
+    "radius_ratios",
+    "read_volume_mesh",
+    "repair_surface",
+    "tetrahedralize",
+    "write_surface",
+    "write_volume_mesh",
+]

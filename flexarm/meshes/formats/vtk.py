@@ -1,0 +1,22 @@
+"""Legacy VTK (``.vtk``), through meshio (binary)."""
+
+from __future__ import annotations
+
+from ...fe.mesh import TetMesh
+from ._meshio import read_meshio, write_meshio
+from ._registry import register_format
+
+__all__ = ["read", "write"]
+
+
+def read(path) -> TetMesh:
+    """Read the tetrahedra and ``set:*`` point data of a legacy ``.vtk`` file."""
+    return read_meshio(path, "vtk")
+
+
+def write(path, mesh: TetMesh) -> None:
+    """Write ``mesh`` as binary legacy ``.vtk`` (node sets as uint8 point data), atomically."""
+    write_meshio(path, mesh, "vtk")
+
+
+register_format("vtk", (".vtk",), read, write)

@@ -1,0 +1,73 @@
+"""CAD file -> checked surface -> tetrahedra -> quality report, in one call."""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+
+import numpy as np
+
+from ..fe.mesh import TetMesh
+from ..fe.typing import PathType
+from .quality import QualityReport, mesh_quality
+from .surface import load_surface
+from .tetwild import tetrahedralize
+
+__all__ = ["mesh_part", "DEFAULT_SIZE_FRACTION"]
+
+logger = logging.getLogger(__name__)
+
+#: Default edge length as a fraction of the bounding-box diagonal (pytetwild's default).
+DEFAULT_SIZE_FRACTION = 0.05
+
+
+def mesh_part(
+    path: PathType,
+    units: str = "m",
+    size: float | None = None,
+    order: int = 1,
+    optimize: bool = True,
+    cache: bool = True,
+    progress: Callable[[str], None] | None = None,
+) -> tuple[TetMesh, QualityReport]:
+    """Tetrahedral mesh of a CAD part file and its quality against the surface.
+
+    Parameters
+    ----------
+    path : path-like
+        ``.stl``, ``.obj`` or ``.ply`` closed surface.
+    units : {"m", "mm", "cm", "in"}
+        Length unit of the file.
+    size : float, optional
+        Target edge length [m]; default ``DEFAULT_SIZE_FRACTION`` times the
+        bounding-box diagonal.
+    order : {1, 2}
+        Tet4 or Tet10.
+    optimize, cache, progress
+        As for :func:`~flexarm.meshes.tetwild.tetrahedralize`.
+
+    Returns
+    -------
+    mesh : TetMesh
+        [m]
+    report : QualityReport
+        Including the volume error against the surface.
+    """
+    if progress is not None:
+        progress(f"{path}: reading the surface (units={units})")
+    surface = load_surface(path, units=units)
+    if size is None:
+        size = DEFAULT_SIZE_FRACTION * float(np.linalg.norm(surface.extents))
+        logger.info("%s: default edge length %.4g m", path, size)
+    mesh = tetrahedralize(
+        surface,
+        size,
+        optimize=optimize,
+        order=order,
+        cache=cache,
+        name=str(path),
+        progress=progress,
+    )
+    report = mesh_quality(mesh, surface)
+    logger.info("%s quality:\n%s", path, report.table())
+    return mesh, report

@@ -1,0 +1,162 @@
+"""Repair and check closed triangle surfaces (the input of tetrahedralisation).
+
+:func:`repair_surface` fixes what can be fixed without guessing the designer's
+intent (coincident vertices, degenerate and duplicate faces, small holes, winding,
+inverted normals); :func:`check_surface` refuses what is left with one clear line.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import trimesh
+
+from ..fe.errors import MeshError
+from ..fe.tolerances import tol
+
+__all__ = ["repair_surface", "check_surface", "merge_digits"]
+
+logger = logging.getLogger(__name__)
+
+
+def merge_digits() -> int:
+    """Decimal digits [m] that trimesh rounds vertices to when merging (from ``tol.point_merge``).
+
+    Examples
+    --------
+    >>> merge_digits()
+    9
+    """
+    return int(round(-np.log10(tol.point_merge)))
+
+
+def repair_surface(surface: trimesh.Trimesh) -> tuple[trimesh.Trimesh, tuple[str, ...]]:
+    """Repaired copy of a triangle surface and a note for each repair made.
+
+    In order: merge coincident vertices (within ``tol.point_merge`` [m]), drop
+    degenerate and duplicate faces and unused vertices, fill small holes, make the
+    winding consistent and turn inward-pointing normals outward.  The input is not
+    modified.
+
+    Parameters
+    ----------
+    surface : trimesh.Trimesh
+        Triangle surface, coordinates [m].
+
+    Returns
+    -------
+    repaired : trimesh.Trimesh
+    notes : tuple of str
+        One human-readable line per repair (empty if nothing was changed).
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> box = trimesh.creation.box((1.0, 1.0, 1.0))
+    >>> _ = box.invert()
+    >>> fixed, notes = repair_surface(box)
+    >>> round(float(fixed.volume), 12), notes
+    (1.0, ('inverted the normals (they pointed inward)',))
+    """
+    mesh = surface.copy()
+    notes: list[str] = []
+
+    n_vertices = len(mesh.vertices)
+    mesh.merge_vertices(merge_tex=True, merge_norm=True, digits_vertex=merge_digits())
+    if len(mesh.vertices) < n_vertices:
+        notes.append(f"merged {_count(n_vertices - len(mesh.vertices), 'coincident vertex')}")
+
+    keep = mesh.nondegenerate_faces(height=tol.point_merge)
+    if not keep.all():
+        mesh.update_faces(keep)
+        notes.append(f"removed {_count(int((~keep).sum()), 'degenerate face')}")
+    keep = mesh.unique_faces()
+    if not keep.all():
+        mesh.update_faces(keep)
+        notes.append(f"removed {_count(int((~keep).sum()), 'duplicate face')}")
+    n_vertices = len(mesh.vertices)
+    mesh.remove_unreferenced_vertices()
+    if len(mesh.vertices) < n_vertices:
+        notes.append(f"removed {_count(n_vertices - len(mesh.vertices), 'unused vertex')}")
+
+    if len(mesh.faces) and not mesh.is_watertight:
+        n_faces = len(mesh.faces)
+        trimesh.repair.fill_holes(mesh)
+        if len(mesh.faces) > n_faces:
+            notes.append(f"filled holes with {_count(len(mesh.faces) - n_faces, 'face')}")
+
+    if len(mesh.faces) and not mesh.is_winding_consistent:
+        trimesh.repair.fix_winding(mesh)
+        if mesh.is_winding_consistent:
+            notes.append("made the face winding consistent")
+
+    # One sign for the whole part: inner shells of voids legitimately enclose
+    # negative volume, so bodies are never flipped one by one.
+    if len(mesh.faces) and mesh.is_watertight and mesh.is_winding_consistent:
+        if mesh.volume < 0:
+            mesh.invert()
+            notes.append("inverted the normals (they pointed inward)")
+    return mesh, tuple(notes)
+
+
+def _count(n: int, noun: str) -> str:
+    if n == 1:
+        return f"1 {noun}"
+    return f"{n} {noun[:-2] + 'ices' if noun.endswith('ex') else noun + 's'}"
+
+
+def _edge_counts(surface: trimesh.Trimesh) -> np.ndarray:
+    """(k,) int: how many faces use each distinct (undirected) edge."""
+    _, counts = np.unique(surface.edges_sorted, axis=0, return_counts=True)
+    return counts
+
+
+def check_surface(surface: trimesh.Trimesh, name: str = "surface", repaired: bool = True) -> None:
+    """Raise :class:`MeshError` unless the surface bounds a positive volume.
+
+    Parameters
+    ----------
+    surface : trimesh.Trimesh
+        Triangle surface, coordinates [m].
+    name : str
+        What to call it in messages (usually the file path).
+    repaired : bool
+        Whether :func:`repair_surface` has already been tried (changes the hint).
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> check_surface(trimesh.creation.box((0.1, 0.1, 0.1)))  # fine: no error
+    >>> open_box = trimesh.creation.box((0.1, 0.1, 0.1))
+    >>> open_box.update_faces([True] * 10 + [False] * 2)
+    >>> check_surface(open_box, "box.stl", repaired=False)
+    Traceback (most recent call last):
+    ...
+    flexarm.fe.errors.MeshError: box.stl: the surface is open (4 boundary edges); try repair=True
+    """
+    if len(surface.faces) == 0:
+        raise MeshError(f"{name}: the surface has no faces")
+    counts = _edge_counts(surface)
+    n_open = int((counts == 1).sum())
+    if n_open:
+        hint = " and repair could not close it" if repaired else "; try repair=True"
+        raise MeshError(f"{name}: the surface is open ({_count(n_open, 'boundary edge')}){hint}")
+    n_multi = int((counts > 2).sum())
+    if n_multi:
+        raise MeshError(
+            f"{name}: the surface is not manifold "
+            f"({_count(n_multi, 'edge')} shared by more than two faces)"
+        )
+    if not surface.is_winding_consistent:
+        raise MeshError(
+            f"{name}: inconsistent face winding (neighbouring faces disagree on which side is out)"
+        )
+    volume = float(surface.volume)
+    extent = float(np.ptp(surface.vertices, axis=0).max())
+    if volume <= tol.surface_min_volume * extent**3:
+        hint = "; the normals point inward" if volume < 0 else ""
+        raise MeshError(
+            f"{name}: the surface encloses zero or negative volume ({volume:.3g} m^3){hint}"
+        )
+    logger.debug("%s: closed surface, %d faces, %.4g m^3", name, len(surface.faces), volume)

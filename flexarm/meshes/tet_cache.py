@@ -1,0 +1,92 @@
+"""On-disk cache of tetrahedralisations, keyed by the surface and the settings.
+
+Files live in ``cache_dir()/tets/<sha256>.npz`` (the flexarm ``.npz`` mesh
+format), written atomically, so an interrupted run never leaves a bad entry.
+"""
+
+from __future__ import annotations
+
+import logging
+from pathlib import Path
+
+import numpy as np
+
+from ..fe.errors import FlexarmError
+from ..fe.files import cache_dir, digest
+from ..fe.mesh import TetMesh
+from ..fe.tolerances import tol
+from .formats import npz
+
+__all__ = ["tet_cache_key", "tet_cache_path", "load_cached", "store_cached", "CACHE_VERSION"]
+
+logger = logging.getLogger(__name__)
+
+#: Bump when the meshing procedure changes so old entries are not reused.
+CACHE_VERSION = 1
+
+
+def tet_cache_key(
+    vertices: np.ndarray, faces: np.ndarray, size: float, optimize: bool, order: int
+) -> str:
+    """SHA-256 hex key of a tetrahedralisation request.
+
+    Parameters
+    ----------
+    vertices : (n, 3) float
+        Surface vertices [m] (hashed as float64 bytes).
+    faces : (k, 3) int
+        Surface triangles (hashed as int64 bytes).
+    size : float
+        Target edge length [m].
+    optimize : bool
+    order : {1, 2}
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> v, f = np.eye(3), np.array([[0, 1, 2]])
+    >>> tet_cache_key(v, f, 0.01, True, 1) == tet_cache_key(v, f, 0.01, True, 2)
+    False
+    """
+    return digest(
+        "tets",
+        CACHE_VERSION,
+        np.ascontiguousarray(vertices, dtype=np.float64),
+        np.ascontiguousarray(faces, dtype=np.int64),
+        float(size),
+        bool(optimize),
+        int(order),
+        tol.tet_envelope,
+        tol.sliver_dihedral_deg,
+        tol.degenerate_volume,
+    )
+
+
+def tet_cache_path(key: str) -> Path:
+    """Where the entry for ``key`` lives (the folder is created)."""
+    folder = cache_dir() / "tets"
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder / f"{key}.npz"
+
+
+def load_cached(key: str) -> TetMesh | None:
+    """The cached mesh for ``key``, or None if absent or unreadable (then it is removed)."""
+    path = tet_cache_path(key)
+    if not path.is_file():
+        return None
+    try:
+        mesh = npz.read(path).check(str(path))
+    except (FlexarmError, OSError, ValueError, KeyError) as exc:
+        logger.warning("ignoring unreadable tet cache entry %s: %s", path, exc)
+        path.unlink(missing_ok=True)
+        return None
+    logger.info("tet cache hit %s (%d elements)", path.name, mesh.n_tets)
+    return mesh
+
+
+def store_cached(key: str, mesh: TetMesh) -> Path:
+    """Write ``mesh`` under ``key`` atomically; return the file path."""
+    path = tet_cache_path(key)
+    npz.write(path, mesh)
+    logger.info("tet cache stored %s", path)
+    return path

@@ -1,0 +1,208 @@
+"""Closed surface -> checked tetrahedral mesh with pytetwild (fTetWild), cached on disk.
+
+pytetwild's output differs between identical calls and occasionally contains
+slivers or flat elements, so every result is checked and a bad one is remeshed
+(optimised, then with a slightly smaller edge length) instead of being patched.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import tempfile
+import time
+from collections.abc import Callable, Iterator
+
+import numpy as np
+
+from ..fe.errors import MeshError, MissingDependencyError
+from ..fe.mesh import TetMesh
+from ..fe.tolerances import tol
+from .quality import dihedral_angles
+from .tet_cache import load_cached, store_cached, tet_cache_key
+
+__all__ = ["tetrahedralize", "MAX_TRIES", "RETRY_SHRINK"]
+
+logger = logging.getLogger(__name__)
+
+#: pytetwild runs per request before giving up.
+MAX_TRIES = 3
+#: Edge-length factor of the last try.
+RETRY_SHRINK = 0.85
+
+Progress = Callable[[str], None]
+
+
+@contextlib.contextmanager
+def _in_temp_dir() -> Iterator[str]:
+    """Run the body inside a fresh temporary directory, restoring the cwd after.
+
+    pytetwild writes ``__tracked_surface.stl`` into the current directory.  The
+    working directory is process-wide: do not mesh from several threads at once.
+    """
+    previous = os.getcwd()
+    with tempfile.TemporaryDirectory(prefix="flexarm-tetwild-") as folder:
+        os.chdir(folder)
+        try:
+            yield folder
+        finally:
+            os.chdir(previous)
+
+
+def _run_tetwild(
+    vertices: np.ndarray, faces: np.ndarray, size: float, optimize: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """One pytetwild call: (n, 3) float64 points [m] and (m, 4) int tets (VTK order)."""
+    try:
+        import pytetwild
+    except ImportError as exc:
+        raise MissingDependencyError("pytetwild", "tetrahedralisation") from exc
+    # The extension accepts only plain C-contiguous arrays (not trimesh's TrackedArray).
+    v = np.array(vertices, dtype=np.float64, order="C")
+    f = np.array(faces, dtype=np.int32, order="C")
+    with _in_temp_dir():
+        points, tets = pytetwild.tetrahedralize(
+            v,
+            f,
+            edge_length_abs=float(size),
+            optimize=bool(optimize),
+            epsilon=tol.tet_envelope,
+            vtk_ordering=True,  # without it every element is negatively oriented
+            quiet=True,
+        )
+    return np.asarray(points, dtype=np.float64), np.asarray(tets, dtype=np.int64)
+
+
+def _compact(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Drop nodes no element uses; keep the order of the rest."""
+    used = np.unique(tets)
+    if len(used) == len(points):
+        return points, tets
+    new_id = np.full(len(points), -1, dtype=np.int64)
+    new_id[used] = np.arange(len(used))
+    return points[used], new_id[tets]
+
+
+def _defect(points: np.ndarray, tets: np.ndarray) -> str | None:
+    """Why a raw mesher result is unusable, or None if it is fine."""
+    if len(tets) == 0:
+        return "no tetrahedra"
+    p = points[tets]
+    d = p[:, 1:] - p[:, :1]
+    vol = np.einsum("ij,ij->i", d[:, 0], np.cross(d[:, 1], d[:, 2])) / 6.0
+    scale = np.abs(vol).mean()
+    n_inverted = int((vol < -tol.degenerate_volume * scale).sum())
+    n_flat = int((np.abs(vol) <= tol.degenerate_volume * scale).sum())
+    n_slivers = int((dihedral_angles(points, tets).min(axis=1) < tol.sliver_dihedral_deg).sum())
+    problems = []
+    if n_inverted:
+        problems.append(f"{n_inverted} inverted")
+    if n_flat:
+        problems.append(f"{n_flat} zero-volume")
+    if n_slivers:
+        problems.append(f"{n_slivers} sliver (dihedral < {tol.sliver_dihedral_deg:g} deg)")
+    return ", ".join(problems) + " tetrahedra" if problems else None
+
+
+def _attempts(size: float, optimize: bool) -> list[tuple[float, bool]]:
+    """The (edge length, optimize) of each try: as asked, optimised, then finer."""
+    return [(size, optimize), (size, True), (size * RETRY_SHRINK, True)][:MAX_TRIES]
+
+
+def _mesh_checked(vertices, faces, size, optimize, name, progress: Progress) -> TetMesh:
+    problems = []
+    for i, (h, opt) in enumerate(_attempts(size, optimize), start=1):
+        progress(f"{name}: tetrahedralizing, try {i}/{MAX_TRIES} (edge {h:.4g} m, optimize={opt})")
+        start = time.perf_counter()
+        try:
+            points, tets = _run_tetwild(vertices, faces, h, opt)
+        except MissingDependencyError:
+            raise
+        except Exception as exc:  # the C++ extension raises RuntimeError and others
+            raise MeshError(f"{name}: pytetwild failed: {exc}") from exc
+        points, tets = _compact(points, tets)
+        problem = _defect(points, tets)
+        elapsed = time.perf_counter() - start
+        if problem is None:
+            logger.info("%s: %d tetrahedra in %.1f s (try %d)", name, len(tets), elapsed, i)
+            return TetMesh(points, tets)
+        logger.warning("%s: try %d gave %s; meshing again", name, i, problem)
+        problems.append(f"try {i}: {problem}")
+    raise MeshError(
+        f"{name}: no valid tetrahedral mesh after {MAX_TRIES} tries ({'; '.join(problems)})"
+    )
+
+
+def tetrahedralize(
+    surface,
+    size: float,
+    optimize: bool = True,
+    order: int = 1,
+    cache: bool = True,
+    name: str = "surface",
+    progress: Progress | None = None,
+) -> TetMesh:
+    """Tetrahedral mesh of the solid inside a closed surface.
+
+    Every result is checked (no inverted, zero-volume or sliver elements, see
+    ``tol.sliver_dihedral_deg``); a bad one is remeshed up to ``MAX_TRIES`` times
+    (optimised, then with the edge length times ``RETRY_SHRINK``).
+
+    Parameters
+    ----------
+    surface : trimesh.Trimesh
+        Closed, outward-wound surface [m] (e.g. from :func:`load_surface`).
+    size : float
+        Target edge length [m].
+    optimize : bool
+        Let fTetWild optimise element quality (slower; ``False`` often leaves
+        flat elements, which then cost a second, optimised run).
+    order : {1, 2}
+        Tet4, or Tet10 with straight mid-edge nodes.
+    cache : bool
+        Reuse / store the result in ``cache_dir()/tets`` (keyed by the surface's
+        vertices and faces, ``size``, ``optimize``, ``order`` and the tolerances).
+    name : str
+        What to call the part in messages.
+    progress : callable (str) -> None, optional
+        Receives a few coarse progress messages.
+
+    Returns
+    -------
+    TetMesh
+        Positively oriented elements, no unused nodes.
+
+    Raises
+    ------
+    MeshError
+        No valid mesh after ``MAX_TRIES`` tries, or pytetwild failed.
+    """
+    size = float(size)
+    if not np.isfinite(size) or size <= 0:
+        raise ValueError(f"size must be a positive edge length [m], got {size}")
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 (Tet4) or 2 (Tet10), got {order}")
+    report = progress or (lambda message: None)
+    vertices = np.asarray(surface.vertices, dtype=np.float64)
+    faces = np.asarray(surface.faces, dtype=np.int64)
+    key = tet_cache_key(vertices, faces, size, optimize, order) if cache else None
+    if key is not None:
+        cached = load_cached(key)
+        if cached is not None:
+            report(f"{name}: tetrahedral mesh from cache ({cached.n_tets} elements)")
+            return cached
+
+    logger.info("tetrahedralizing %s: %d faces, edge %.4g m", name, len(faces), size)
+    mesh = _mesh_checked(vertices, faces, size, optimize, name, report)
+    reference = float(surface.volume)
+    error = (float(mesh.volumes().sum()) - reference) / reference
+    if abs(error) > tol.tet_volume_warn:
+        logger.warning("%s: tetrahedra differ from the surface volume by %.2g%%", name, 100 * error)
+    if order == 2:
+        mesh = mesh.to_tet10()
+    if key is not None:
+        store_cached(key, mesh)
+    report(f"{name}: {mesh.n_tets} elements, {mesh.n_nodes} nodes")
+    logger.info("tetrahedralized %s: %d elements, %d nodes", name, mesh.n_tets, mesh.n_nodes)
+    return mesh
