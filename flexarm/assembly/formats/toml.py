@@ -1,0 +1,278 @@
+"""Robot description TOML (DESIGN §5): ``read(path) -> Robot``, ``write(path, robot)``.
+
+Angles are degrees in the file (keys ending ``_deg``), radians inside.  Mesh paths
+are relative to the TOML file.  Rigid joint directions are written ``"rigid"``.
+Every error names the file, the key and the value.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import tomllib
+
+from ...fe.errors import ReadError
+from ...fe.files import atomic_path
+from ...fe.material import MATERIALS, Material, material_from_string
+from ..joints import JointModel
+from ..robot import (
+    BaseSupport,
+    Joint,
+    Link,
+    LumpedMass,
+    ModelOptions,
+    Region,
+    Robot,
+    Tool,
+)
+
+__all__ = ["read", "write", "FORMAT_VERSION"]
+
+FORMAT_VERSION = 1
+_MODEL_KEYS = {"torsion", "tilt", "radial", "axial", "damping_ratio", "rayleigh"}
+_JOINT_KEYS = {"name", "parent", "child", "origin", "rpy_deg", "axis", "limits_deg",
+               "gear_ratio", "model"}
+_LINK_KEYS = {"name", "mesh", "units", "material", "lumped", "regions"}
+
+
+def _check_keys(table: dict, allowed: set, where: str) -> None:
+    extra = sorted(set(table) - allowed)
+    if extra:
+        raise ValueError(f"{where}: unknown key '{extra[0]}' (allowed: {sorted(allowed)})")
+
+
+def _stiff(value, key: str) -> float:
+    if isinstance(value, str):
+        if value.strip().lower() != "rigid":
+            raise ValueError(f"{key} must be a number or \"rigid\", got '{value}'")
+        return math.inf
+    v = float(value)
+    if not v > 0:
+        raise ValueError(f"{key} must be > 0 (or \"rigid\"), got {value}")
+    return v
+
+
+def _material(value, key: str) -> Material:
+    if isinstance(value, dict):
+        try:
+            return Material(float(value["E"]), float(value["nu"]), float(value["rho"]),
+                            str(value.get("name", "custom")))
+        except KeyError as exc:
+            raise ValueError(f"{key} needs E, nu and rho, missing {exc}") from None
+    try:
+        return material_from_string(str(value))
+    except ValueError:
+        raise ValueError(f"{key}: unknown material '{value}' (known: "
+                         f"{'|'.join(MATERIALS)} or {{E, nu, rho}})") from None
+
+
+def _inertia(value, key: str) -> tuple:
+    J = np.asarray(value, dtype=float)
+    if J.shape == (3,):
+        J = np.diag(J)
+    if J.shape != (3, 3):
+        raise ValueError(f"{key} must be 3 principal values or a 3x3 matrix, got {value!r}")
+    return tuple(map(tuple, J.tolist()))
+
+
+def _link(d: dict, folder: Path) -> Link:
+    name = str(d.get("name", ""))
+    key = f"links.{name or '?'}"
+    if not name:
+        raise ValueError("links: every link needs a name")
+    _check_keys(d, _LINK_KEYS, key)
+    mesh = d.get("mesh")
+    mesh_path = None
+    if mesh:
+        mesh_path = (folder / mesh).resolve() if not Path(mesh).is_absolute() else Path(mesh)
+        if not mesh_path.is_file():
+            raise ValueError(f"{key}.mesh: file not found: '{mesh}' (looked in {mesh_path})")
+    lumped = []
+    for m in d.get("lumped", []):
+        mkey = f"{key}.lumped.{m.get('name', '?')}"
+        mass = float(m["mass"])
+        if not mass >= 0:
+            raise ValueError(f"{mkey}.mass must be >= 0 kg, got {m['mass']}")
+        lumped.append(LumpedMass(str(m.get("name", "")), mass,
+                                 tuple(float(v) for v in m.get("position", (0, 0, 0))),
+                                 _inertia(m.get("inertia", [0, 0, 0]), f"{mkey}.inertia")))
+    regions = {}
+    for rname, r in d.get("regions", {}).items():
+        rkey = f"{key}.regions.{rname}"
+        try:
+            regions[rname] = Region(
+                tuple(float(v) for v in r["center"]), tuple(float(v) for v in r["axis"]),
+                float(r["r_min"]), float(r["r_max"]), float(r["half_width"]),
+                str(r.get("coupling", "rbe2")))
+        except KeyError as exc:
+            raise ValueError(f"{rkey}: missing key {exc}") from None
+    return Link(name, mesh_path, _material(d.get("material", "steel"), f"{key}.material"),
+                str(d.get("units", "m")), tuple(lumped), regions)
+
+
+def _joint(d: dict) -> Joint:
+    name = str(d.get("name", ""))
+    key = f"joints.{name or '?'}"
+    if not name:
+        raise ValueError("joints: every joint needs a name")
+    _check_keys(d, _JOINT_KEYS, key)
+    m = dict(d.get("model", {}))
+    _check_keys(m, _MODEL_KEYS, f"{key}.model")
+    if "torsion" not in m:
+        raise ValueError(f"{key}.model.torsion is required [N m/rad]")
+    model = JointModel(
+        torsion=_stiff(m["torsion"], f"{key}.model.torsion"),
+        tilt=_stiff(m.get("tilt", "rigid"), f"{key}.model.tilt"),
+        radial=_stiff(m.get("radial", "rigid"), f"{key}.model.radial"),
+        axial=_stiff(m.get("axial", "rigid"), f"{key}.model.axial"),
+        damping_ratio=float(m.get("damping_ratio", 0.02)),
+        rayleigh=tuple(m["rayleigh"]) if "rayleigh" in m else None,
+    )
+    lim = d.get("limits_deg", [-180.0, 180.0])
+    if len(lim) != 2:
+        raise ValueError(f"{key}.limits_deg must be [lower, upper], got {lim!r}")
+    for k in ("parent", "child", "origin", "axis"):
+        if k not in d:
+            raise ValueError(f"{key}.{k} is required")
+    return Joint(name, str(d["parent"]), str(d["child"]),
+                 tuple(float(v) for v in d["origin"]), tuple(float(v) for v in d["axis"]),
+                 math.radians(lim[0]), math.radians(lim[1]), model,
+                 tuple(math.radians(v) for v in d.get("rpy_deg", (0, 0, 0))),
+                 float(d.get("gear_ratio", 1.0)))
+
+
+def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
+    """Build a :class:`Robot` from parsed TOML ``data``; mesh paths relative to ``folder``."""
+    version = data.get("format_version", FORMAT_VERSION)
+    if version != FORMAT_VERSION:
+        raise ValueError(f"format_version: cannot read version {version} "
+                         f"(this flexarm reads {FORMAT_VERSION})")
+    b = data.get("base", {})
+    kind = str(b.get("support", "clamped"))
+    Kb = None
+    if "stiffness" in b:
+        Kb = np.asarray(b["stiffness"], dtype=float)
+        Kb = np.diag(Kb) if Kb.shape == (6,) else Kb
+        if np.any(np.diag(Kb) < 0):
+            raise ValueError(f"base.stiffness: negative stiffness {np.diag(Kb).min():g}")
+        Kb = tuple(map(tuple, Kb.tolist()))
+    t = data.get("tool", {})
+    opts = data.get("model", {})
+    w = data.get("wrist", {})
+    poses = {k: [math.radians(float(a)) for a in v] for k, v in data.get("poses", {}).items()}
+    return Robot(
+        name=str(data.get("name", "robot")),
+        links=tuple(_link(d, folder) for d in data.get("links", [])),
+        joints=tuple(_joint(d) for d in data.get("joints", [])),
+        base=BaseSupport(kind, Kb, float(b.get("damping_ratio", 0.02))),
+        tool=Tool(tuple(float(v) for v in t.get("xyz", (0, 0, 0))),
+                  tuple(math.radians(float(v)) for v in t.get("rpy_deg", (0, 0, 0))),
+                  t.get("link")),
+        poses=poses,
+        options=ModelOptions(int(opts.get("element_order", 1)),
+                             float(opts.get("mesh_size", 0.03)), int(opts.get("cb_modes", 10))),
+        wrist_coupling=tuple(map(tuple, w["coupling"])) if "coupling" in w else None,
+        wrist_stiffness=tuple(map(tuple, w["stiffness"])) if "stiffness" in w else None,
+        source=source,
+    )
+
+
+def read(path) -> Robot:
+    """Read a robot TOML file; errors become :class:`ReadError` naming the file.
+
+    Examples
+    --------
+    >>> from flexarm.meshes.demo_arm import demo_robot_path
+    >>> read(demo_robot_path()).joint_names[:2]
+    ('joint_1', 'joint_2')
+    """
+    path = Path(path)
+    try:
+        with open(path, "rb") as f:
+            data = tomllib.load(f)
+    except FileNotFoundError:
+        raise
+    except tomllib.TOMLDecodeError as exc:
+        raise ReadError(f"{path}: {exc}") from None
+    try:
+        return from_dict(data, path.parent, source=path.resolve())
+    except (ValueError, KeyError, TypeError) as exc:
+        raise ReadError(f"{path}: {exc}") from None
+
+
+def _num(v: float):
+    return "rigid" if math.isinf(v) else float(v)
+
+
+def to_dict(robot: Robot, folder: Path) -> dict:
+    """Plain TOML-ready dict of ``robot``; mesh paths relative to ``folder``."""
+    links = []
+    for lk in robot.links:
+        d: dict = {"name": lk.name}
+        if lk.mesh is not None:
+            d["mesh"] = Path(os.path.relpath(lk.mesh, folder)).as_posix()
+        d["units"] = lk.units
+        mat = lk.material
+        d["material"] = (mat.name if MATERIALS.get(mat.name) == mat
+                         else {"E": mat.E, "nu": mat.nu, "rho": mat.rho, "name": mat.name})
+        if lk.lumped:
+            d["lumped"] = [{"name": m.name, "mass": m.mass, "position": list(m.position),
+                            "inertia": [list(r) for r in m.inertia]} for m in lk.lumped]
+        if lk.regions:
+            d["regions"] = {k: {"center": list(r.center), "axis": list(r.axis),
+                                "r_min": r.r_min, "r_max": r.r_max,
+                                "half_width": r.half_width, "coupling": r.coupling}
+                            for k, r in lk.regions.items()}
+        links.append(d)
+    joints = []
+    for j in robot.joints:
+        m = j.model
+        model = {"torsion": _num(m.torsion), "tilt": _num(m.tilt), "radial": _num(m.radial),
+                 "axial": _num(m.axial), "damping_ratio": m.damping_ratio}
+        if m.rayleigh is not None:
+            model["rayleigh"] = list(m.rayleigh)
+        joints.append({
+            "name": j.name, "parent": j.parent, "child": j.child,
+            "origin": list(j.origin), "rpy_deg": [math.degrees(v) for v in j.rpy],
+            "axis": list(j.axis),
+            "limits_deg": [math.degrees(j.lower), math.degrees(j.upper)],
+            "gear_ratio": j.gear_ratio, "model": model,
+        })
+    base: dict = {"support": robot.base.kind, "damping_ratio": robot.base.damping_ratio}
+    if robot.base.stiffness is not None:
+        base["stiffness"] = [list(r) for r in robot.base.stiffness]
+    tool: dict = {"xyz": list(robot.tool.xyz), "rpy_deg": [math.degrees(v) for v in robot.tool.rpy]}
+    if robot.tool.link:
+        tool["link"] = robot.tool.link
+    out = {
+        "format_version": FORMAT_VERSION,
+        "name": robot.name,
+        "model": {"element_order": robot.options.element_order,
+                  "mesh_size": robot.options.mesh_size, "cb_modes": robot.options.cb_modes},
+        "base": base,
+        "tool": tool,
+        "poses": {k: [round(math.degrees(a), 10) for a in v] for k, v in robot.poses.items()},
+    }
+    wrist = {}
+    if robot.wrist_coupling is not None:
+        wrist["coupling"] = [list(r) for r in robot.wrist_coupling]
+    if robot.wrist_stiffness is not None:
+        wrist["stiffness"] = [list(r) for r in robot.wrist_stiffness]
+    if wrist:
+        out["wrist"] = wrist
+    out["links"] = links
+    out["joints"] = joints
+    return out
+
+
+def write(path, robot: Robot) -> None:
+    """Write ``robot`` as TOML (atomically); mesh paths relative to the file."""
+    import tomli_w
+
+    path = Path(path)
+    data = to_dict(robot, path.resolve().parent)
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(tomli_w.dumps(data).encode())

@@ -1,0 +1,110 @@
+"""Joint models: a 6×6 spring in the joint frame, rigid directions eliminated exactly.
+
+The joint frame has its first axis along the joint axis.  Its six relative DOFs
+are ordered (u_axial, u_radial1, u_radial2, theta_torsion, theta_tilt1,
+theta_tilt2).  A direction with infinite stiffness is *rigid*: it never becomes a
+coordinate of the assembled system (no penalty numbers).  Finite directions become
+independent coordinates ``delta`` carrying the diagonal spring.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..fe.typing import ArrayLike, FloatArray
+
+__all__ = ["JointModel", "joint_basis", "DOF_NAMES"]
+
+#: Names of the six relative joint DOFs, in the order of :attr:`JointModel.stiffness`.
+DOF_NAMES = ("axial", "radial1", "radial2", "torsion", "tilt1", "tilt2")
+
+
+@dataclass(frozen=True)
+class JointModel:
+    """Linear spring of one revolute joint in its joint frame.
+
+    Parameters
+    ----------
+    torsion : float
+        Gear (drive-train) torsional stiffness about the axis [N m/rad]; ``inf`` = locked.
+    tilt : float
+        Bearing tilt stiffness about each axis perpendicular to the joint axis
+        [N m/rad]; ``inf`` (default) = rigid.
+    radial : float
+        Bearing radial stiffness [N/m]; ``inf`` = rigid.
+    axial : float
+        Bearing axial stiffness [N/m]; ``inf`` = rigid.
+    damping_ratio : float
+        Modal damping ratio [-] of the energy stored in this joint.
+    rayleigh : (2,) float or None
+        ``(alpha [1/s], beta [s])``: if given, the joint's ratio at angular frequency
+        omega is ``alpha / (2 omega) + beta omega / 2`` instead of ``damping_ratio``.
+
+    Examples
+    --------
+    >>> jm = JointModel(torsion=5e5, tilt=2e7)
+    >>> jm.free_dofs.tolist(), jm.free_stiffness.tolist()
+    ([3, 4, 5], [500000.0, 20000000.0, 20000000.0])
+    """
+
+    torsion: float
+    tilt: float = math.inf
+    radial: float = math.inf
+    axial: float = math.inf
+    damping_ratio: float = 0.02
+    rayleigh: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("torsion", "tilt", "radial", "axial"):
+            v = float(getattr(self, name))
+            if not v > 0:
+                raise ValueError(f"joint {name} stiffness must be > 0 (or inf for rigid), got {v}")
+        if not 0 <= self.damping_ratio < 1:
+            raise ValueError(f"joint damping_ratio must be in [0, 1), got {self.damping_ratio}")
+        if self.rayleigh is not None:
+            a, b = (float(v) for v in self.rayleigh)
+            if a < 0 or b < 0:
+                raise ValueError(f"joint rayleigh (alpha, beta) must be >= 0, got {self.rayleigh}")
+            object.__setattr__(self, "rayleigh", (a, b))
+
+    @property
+    def stiffness(self) -> FloatArray:
+        """(6,) diagonal stiffness in the joint frame, ``inf`` for rigid directions."""
+        return np.array(
+            [self.axial, self.radial, self.radial, self.torsion, self.tilt, self.tilt], float
+        )
+
+    @property
+    def free_dofs(self) -> np.ndarray:
+        """(k,) int: joint-frame DOFs that are coordinates of the assembled system."""
+        return np.flatnonzero(np.isfinite(self.stiffness))
+
+    @property
+    def free_stiffness(self) -> FloatArray:
+        """(k,) float: spring stiffness of the free DOFs [N/m or N m/rad]."""
+        return self.stiffness[self.free_dofs]
+
+    def ratio(self, omega: ArrayLike) -> FloatArray:
+        """Damping ratio [-] at angular frequency ``omega`` [rad/s]."""
+        omega = np.asarray(omega, dtype=float)
+        if self.rayleigh is None:
+            return np.full(omega.shape, self.damping_ratio)
+        a, b = self.rayleigh
+        return a / (2 * np.maximum(omega, np.finfo(float).tiny)) + b * omega / 2
+
+
+def joint_basis(axis: ArrayLike) -> FloatArray:
+    """(3, 3) right-handed orthonormal basis with columns (axis, radial1, radial2).
+
+    ``radial1`` is the unit vector of the coordinate axis least aligned with ``axis``
+    made orthogonal to it, so the basis is deterministic.
+    """
+    a = np.asarray(axis, dtype=float)
+    a = a / np.linalg.norm(a)
+    helper = np.eye(3)[int(np.argmin(np.abs(a)))]
+    b = helper - (helper @ a) * a
+    b /= np.linalg.norm(b)
+    return np.column_stack([a, b, np.cross(a, b)])

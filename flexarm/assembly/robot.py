@@ -1,0 +1,307 @@
+"""The robot description (DESIGN §5) as frozen dataclasses, with validation.
+
+Angles are radians and lengths metres inside; the TOML reader/writer
+(:mod:`flexarm.assembly.formats.toml`) converts degrees at the edge.  Validation
+errors name the offending key and value.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+
+from ..fe.material import Material
+from ..fe.typing import FloatArray
+from .joints import JointModel
+from .kinematics import Chain, rpy_matrix
+
+__all__ = [
+    "LumpedMass",
+    "Region",
+    "Link",
+    "Joint",
+    "BaseSupport",
+    "Tool",
+    "ModelOptions",
+    "Robot",
+    "pose_from_string",
+]
+
+_UNIT_TOL = 1e-6  # |axis| must be 1 to this (a description error, not round-off)
+UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
+
+
+def _vec(value, n: int, key: str) -> FloatArray:
+    a = np.asarray(value, dtype=float)
+    if a.shape != (n,):
+        raise ValueError(f"{key} must have {n} numbers, got {value!r}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{key} must be finite, got {value!r}")
+    return a
+
+
+@dataclass(frozen=True)
+class LumpedMass:
+    """A concentrated mass (motor, gearbox) rigidly fixed to a link.
+
+    ``position`` [m] in the link frame; ``inertia`` (3, 3) [kg m^2] about its own centre.
+    """
+
+    name: str
+    mass: float
+    position: tuple
+    inertia: tuple = ((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, 0.0))
+
+
+@dataclass(frozen=True)
+class Region:
+    """Cylindrical interface region (DESIGN §6) in the link frame.
+
+    FE nodes with radial distance in ``[r_min, r_max]`` [m] from the axis through
+    ``center`` and axial distance ``<= half_width`` [m] are selected; ``coupling``
+    is ``"rbe2"`` or ``"rbe3"``.
+    """
+
+    center: tuple
+    axis: tuple
+    r_min: float
+    r_max: float
+    half_width: float
+    coupling: str = "rbe2"
+
+    def contains(self, points) -> np.ndarray:
+        """(n,) bool: which ``points`` (n, 3) [m] lie in the region."""
+        p = np.asarray(points, dtype=float) - np.asarray(self.center)
+        a = np.asarray(self.axis, dtype=float)
+        t = p @ a
+        r = np.linalg.norm(p - t[:, None] * a, axis=1)
+        return (np.abs(t) <= self.half_width) & (r >= self.r_min) & (r <= self.r_max)
+
+
+@dataclass(frozen=True)
+class Link:
+    """One link: its CAD, material, lumped masses and interface regions.
+
+    ``mesh`` is an absolute path (or None for a massless link); ``units`` the CAD
+    length unit.  ``regions`` maps a joint name (or ``"tcp"``) to its seat region.
+    """
+
+    name: str
+    mesh: Path | None
+    material: Material
+    units: str = "m"
+    lumped: tuple[LumpedMass, ...] = ()
+    regions: dict = field(default_factory=dict, compare=False)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A revolute joint; ``origin`` [m] and ``rpy`` [rad] in the parent frame."""
+
+    name: str
+    parent: str
+    child: str
+    origin: tuple
+    axis: tuple
+    lower: float
+    upper: float
+    model: JointModel
+    rpy: tuple = (0.0, 0.0, 0.0)
+    gear_ratio: float = 1.0
+
+
+@dataclass(frozen=True)
+class BaseSupport:
+    """``"clamped"`` or ``"spring"`` with a (6, 6) foundation stiffness [N/m, N m/rad]."""
+
+    kind: str = "clamped"
+    stiffness: tuple | None = None
+    damping_ratio: float = 0.02
+
+
+@dataclass(frozen=True)
+class Tool:
+    """TCP frame on ``link`` (default: the last): offset ``xyz`` [m], ``rpy`` [rad]."""
+
+    xyz: tuple = (0.0, 0.0, 0.0)
+    rpy: tuple = (0.0, 0.0, 0.0)
+    link: str | None = None
+
+    def matrix(self) -> FloatArray:
+        T = np.eye(4)
+        T[:3, :3] = rpy_matrix(self.rpy)
+        T[:3, 3] = self.xyz
+        return T
+
+
+@dataclass(frozen=True)
+class ModelOptions:
+    """Element order (1|2), mesh size [m] and Craig–Bampton mode count per link."""
+
+    element_order: int = 1
+    mesh_size: float = 0.03
+    cb_modes: int = 10
+
+
+@dataclass(frozen=True, eq=False)
+class Robot:
+    """A validated robot description.
+
+    Links are listed base first; joint ``j`` (in order) has child ``links[j + 1]``
+    and a parent listed earlier.  ``poses`` maps names to joint angles [rad].
+    """
+
+    name: str
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]
+    base: BaseSupport = BaseSupport()
+    tool: Tool = Tool()
+    poses: dict = field(default_factory=dict)
+    options: ModelOptions = ModelOptions()
+    wrist_coupling: tuple | None = None
+    wrist_stiffness: tuple | None = None
+    source: Path | None = None
+
+    def __post_init__(self) -> None:
+        validate(self)
+
+    @cached_property
+    def link_index(self) -> dict[str, int]:
+        return {lk.name: i for i, lk in enumerate(self.links)}
+
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        return tuple(j.name for j in self.joints)
+
+    @property
+    def lower(self) -> FloatArray:
+        return np.array([j.lower for j in self.joints])
+
+    @property
+    def upper(self) -> FloatArray:
+        return np.array([j.upper for j in self.joints])
+
+    @cached_property
+    def chain(self) -> Chain:
+        """Kinematic :class:`Chain` (body ``i`` = ``links[i]``)."""
+        idx = self.link_index
+        tcp = idx[self.tool.link] if self.tool.link else len(self.links) - 1
+        return Chain(
+            origins=[j.origin for j in self.joints],
+            axes=[j.axis for j in self.joints],
+            parents=[idx[j.parent] for j in self.joints],
+            origin_R=np.array([rpy_matrix(j.rpy) for j in self.joints]).reshape(-1, 3, 3),
+            tool=self.tool.matrix(),
+            tcp_body=tcp,
+            gear_ratios=[j.gear_ratio for j in self.joints],
+            wrist_coupling=None if self.wrist_coupling is None else np.array(self.wrist_coupling),
+        )
+
+    def pose(self, spec) -> FloatArray:
+        """(n,) joint angles [rad] of a named pose or of a sequence of angles [rad]."""
+        if isinstance(spec, str):
+            if spec not in self.poses:
+                raise ValueError(f"unknown pose '{spec}' (robot has {sorted(self.poses)})")
+            return np.array(self.poses[spec], dtype=float)
+        q = np.asarray(spec, dtype=float)
+        if q.shape != (len(self.joints),):
+            raise ValueError(f"pose must have {len(self.joints)} joint angles, got {q.shape}")
+        return q
+
+
+def validate(robot: Robot) -> None:
+    """Raise ``ValueError`` naming key and value for anything inconsistent."""
+    names = [lk.name for lk in robot.links]
+    if len(set(names)) != len(names):
+        raise ValueError(f"links: duplicate link names in {names}")
+    if len(robot.joints) != len(robot.links) - 1:
+        raise ValueError(f"{len(robot.links)} links need {len(robot.links) - 1} joints, "
+                         f"got {len(robot.joints)}")
+    for lk in robot.links:
+        if lk.units not in UNITS:
+            raise ValueError(f"links.{lk.name}.units: unknown unit '{lk.units}' "
+                             f"(use {'|'.join(UNITS)})")
+        if lk.mesh is not None and not Path(lk.mesh).is_file():
+            raise ValueError(f"links.{lk.name}.mesh: file not found: '{lk.mesh}'")
+        for m in lk.lumped:
+            if not m.mass >= 0:
+                raise ValueError(f"links.{lk.name}.lumped.{m.name}.mass must be >= 0 kg, "
+                                 f"got {m.mass}")
+        for rname, reg in lk.regions.items():
+            key = f"links.{lk.name}.regions.{rname}"
+            if abs(np.linalg.norm(reg.axis) - 1) > _UNIT_TOL:
+                raise ValueError(f"{key}.axis must be a unit vector, got {list(reg.axis)}")
+            if not 0 <= reg.r_min <= reg.r_max or not reg.half_width > 0:
+                raise ValueError(f"{key}: need 0 <= r_min <= r_max and half_width > 0, got "
+                                 f"r_min={reg.r_min}, r_max={reg.r_max}, "
+                                 f"half_width={reg.half_width}")
+            if reg.coupling not in ("rbe2", "rbe3"):
+                raise ValueError(f"{key}.coupling must be rbe2|rbe3, got '{reg.coupling}'")
+    seen = {names[0]}
+    for j, jt in enumerate(robot.joints):
+        key = f"joints.{jt.name}"
+        if jt.parent not in names:
+            raise ValueError(f"{key}.parent: unknown link '{jt.parent}'")
+        if jt.child not in names:
+            raise ValueError(f"{key}.child: unknown link '{jt.child}'")
+        if jt.child != names[j + 1]:
+            raise ValueError(f"{key}.child must be '{names[j + 1]}' (links in joint order), "
+                             f"got '{jt.child}'")
+        if jt.parent not in seen:
+            raise ValueError(f"{key}.parent '{jt.parent}' must come before its child")
+        seen.add(jt.child)
+        _vec(jt.origin, 3, f"{key}.origin")
+        if abs(np.linalg.norm(_vec(jt.axis, 3, f"{key}.axis")) - 1) > _UNIT_TOL:
+            raise ValueError(f"{key}.axis must be a unit vector, got {list(jt.axis)}")
+        if not jt.lower < jt.upper:
+            raise ValueError(f"{key}.limits reversed: lower {math.degrees(jt.lower):g} deg >= "
+                             f"upper {math.degrees(jt.upper):g} deg")
+        if not jt.gear_ratio != 0:
+            raise ValueError(f"{key}.gear_ratio must be nonzero, got {jt.gear_ratio}")
+    if robot.tool.link is not None and robot.tool.link not in names:
+        raise ValueError(f"tool.link: unknown link '{robot.tool.link}'")
+    if robot.base.kind not in ("clamped", "spring"):
+        raise ValueError(f"base.support must be clamped|spring, got '{robot.base.kind}'")
+    if robot.base.kind == "spring":
+        K = np.asarray(robot.base.stiffness, dtype=float)
+        if K.shape != (6, 6) or not np.allclose(K, K.T) or np.linalg.eigvalsh(K).min() <= 0:
+            raise ValueError("base.stiffness must be a symmetric positive definite 6x6 matrix")
+    lo = np.array([j.lower for j in robot.joints])
+    hi = np.array([j.upper for j in robot.joints])
+    for pname, q in robot.poses.items():
+        q = np.asarray(q, dtype=float)
+        if q.shape != lo.shape:
+            raise ValueError(f"poses.{pname} must have {len(lo)} angles, got {len(q)}")
+        bad = np.flatnonzero((q < lo) | (q > hi))
+        if bad.size:
+            j = int(bad[0])
+            raise ValueError(f"poses.{pname}: {robot.joints[j].name} = {math.degrees(q[j]):g} "
+                             f"deg outside limits [{math.degrees(lo[j]):g}, "
+                             f"{math.degrees(hi[j]):g}] deg")
+    if robot.wrist_stiffness is not None:
+        W = np.asarray(robot.wrist_stiffness, dtype=float)
+        if W.shape != (3, 3) or not np.allclose(W, W.T) or np.linalg.eigvalsh(W).min() <= 0:
+            raise ValueError("wrist.stiffness must be a symmetric positive definite 3x3 matrix")
+    if robot.wrist_coupling is not None:
+        if np.asarray(robot.wrist_coupling, dtype=float).shape != (3, 3):
+            raise ValueError("wrist.coupling must be a 3x3 matrix")
+
+
+def pose_from_string(robot: Robot, text: str) -> FloatArray:
+    """(n,) joint angles [rad] of a pose name (``"P1"``) or ``"q1,...,qn"`` in degrees."""
+    text = text.strip()
+    if text in robot.poses:
+        return np.array(robot.poses[text], dtype=float)
+    parts = [p for p in text.replace(";", ",").split(",") if p.strip()]
+    try:
+        q = np.radians([float(p) for p in parts])
+    except ValueError:
+        raise ValueError(f"pose must be one of {sorted(robot.poses)} or {len(robot.joints)} "
+                         f"comma-separated angles in degrees, got '{text}'") from None
+    if len(q) != len(robot.joints):
+        raise ValueError(f"pose needs {len(robot.joints)} angles in degrees, got '{text}'")
+    return q

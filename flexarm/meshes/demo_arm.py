@@ -1,0 +1,312 @@
+"""The built-in demo arm: parametric link CAD (hollow castings) and its robot.toml.
+
+An arm of the ABB IRB 4600-60/2.05 class (DESIGN §4): base, frame, lower arm,
+arm housing, tube shaft, tilt housing and turning disc, each a hollow casting
+(outer solid minus a cavity one wall thickness inside, minus the bearing bores),
+built with manifold3d booleans in its own link frame.  Motors, gearboxes and the
+balancing cylinder are lumped masses in ``robot.toml``.
+
+Run ``python -m flexarm.meshes.demo_arm [folder]`` to regenerate the shipped
+files; the output is byte-for-byte reproducible.
+"""
+
+from __future__ import annotations
+
+import logging
+import struct
+import sys
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["LINKS", "link_solids", "write_stl", "robot_dict", "generate", "demo_robot_path",
+           "load_demo_robot"]
+
+log = logging.getLogger(__name__)
+
+#: (link name, material, kinematic origin of its joint in the parent frame, axis)
+LINKS = (
+    ("base", "cast_iron", None, None),
+    ("frame", "cast_iron", (0.0, 0.0, 0.495), (0, 0, 1)),
+    ("lower_arm", "cast_iron", (0.175, 0.0, 0.0), (0, 1, 0)),
+    ("arm_housing", "cast_iron", (0.0, 0.0, 0.900), (0, 1, 0)),
+    ("tube_shaft", "steel", (0.0, 0.0, 0.175), (1, 0, 0)),
+    ("tilt_housing", "cast_iron", (0.960, 0.0, 0.0), (0, 1, 0)),
+    ("turning_disc", "steel", (0.135, 0.0, 0.0), (1, 0, 0)),
+)
+_SEG = 48  # circle segments: smooth enough for 20-40 mm tets, a few thousand triangles
+
+
+@dataclass(frozen=True)
+class Hub:
+    """A cylindrical boss with a bearing bore, on ``axis`` (``"x"|"y"|"z"``) through ``c``."""
+
+    c: tuple
+    axis: str
+    r_out: float
+    r_bore: float
+    lo: float  # extent along the axis relative to c [m]
+    hi: float
+
+
+def _cyl(axis: str, c, r: float, lo: float, hi: float, seg: int = _SEG):
+    from manifold3d import Manifold
+
+    m = Manifold.cylinder(hi - lo, r, r, seg).translate((0.0, 0.0, lo))
+    if axis == "x":
+        m = m.rotate((0.0, 90.0, 0.0))
+    elif axis == "y":
+        m = m.rotate((-90.0, 0.0, 0.0))
+    return m.translate(tuple(float(v) for v in c))
+
+
+def _box(lo, hi):
+    from manifold3d import Manifold
+
+    size = tuple(float(b - a) for a, b in zip(lo, hi, strict=True))
+    return Manifold.cube(size).translate(tuple(float(v) for v in lo))
+
+
+def _hull(*parts):
+    from manifold3d import Manifold
+
+    return Manifold.batch_hull(list(parts))
+
+
+def _casting(outer, inner, hubs):
+    """Outer solid (plus hub bosses) minus cavity minus bores: a hollow casting."""
+    solid = outer
+    for h in hubs:
+        solid = solid + _cyl(h.axis, h.c, h.r_out, h.lo, h.hi)
+    if inner is not None:
+        solid = solid - inner
+    for h in hubs:
+        solid = solid - _cyl(h.axis, h.c, h.r_bore, h.lo - 0.01, h.hi + 0.01, 32)
+    return solid
+
+
+def _hubs() -> dict[str, list[Hub]]:
+    """Bearing hubs per link (link frame); the joint seats the interface regions use."""
+    return {
+        "base": [Hub((0, 0, 0.37), "z", 0.22, 0.085, 0.0, 0.05)],
+        "frame": [Hub((0, 0, 0), "z", 0.23, 0.085, -0.07, 0.0),
+                  Hub((0.175, 0, 0), "y", 0.17, 0.075, -0.26, -0.10)],
+        "lower_arm": [Hub((0, 0, 0), "y", 0.15, 0.075, -0.10, 0.09),
+                      Hub((0, 0, 0.9), "y", 0.12, 0.065, -0.09, 0.09)],
+        "arm_housing": [Hub((0, 0, 0), "y", 0.13, 0.065, 0.09, 0.19),
+                        Hub((0, 0, 0.175), "x", 0.12, 0.075, 0.10, 0.22)],
+        "tube_shaft": [Hub((0, 0, 0), "x", 0.095, 0.06, 0.22, 0.30),
+                       Hub((0.96, 0, 0), "y", 0.075, 0.035, 0.065, 0.10),
+                       Hub((0.96, 0, 0), "y", 0.075, 0.035, -0.10, -0.065)],
+        "tilt_housing": [Hub((0, 0, 0), "y", 0.065, 0.030, -0.062, 0.062),
+                         Hub((0, 0, 0), "x", 0.06, 0.035, 0.06, 0.115)],
+        "turning_disc": [Hub((0, 0, 0), "x", 0.08, 0.02, -0.025, 0.0)],
+    }
+
+
+def link_solids() -> dict:
+    """Manifold solid of every link in its link frame [m] (see module docstring)."""
+    H = _hubs()
+    w = 0.014  # main casting wall [m]
+    out = {}
+    # base: foot ring + pedestal tube closed by the joint-1 hub
+    wb = 0.011
+    ped = _cyl("z", (0, 0, 0), 0.20, 0.0, 0.40)
+    foot = _cyl("z", (0, 0, 0), 0.28, 0.0, 0.02) - _cyl("z", (0, 0, 0), 0.18, -0.01, 0.04)
+    out["base"] = _casting(ped + foot, _cyl("z", (0, 0, 0), 0.20 - wb, -0.01, 0.40 - wb), H["base"])
+    # frame: turntable + a hollow side cheek carrying the joint-2 hub (-y side)
+    cheek = _hull(_cyl("z", (-0.02, -0.19, -0.07), 0.09, 0.0, 0.02), _cyl("y", (0.175, 0, 0), 0.17,
+                                                                         -0.26, -0.10))
+    cav = _hull(_cyl("z", (-0.02, -0.19, -0.07 + w), 0.09 - w, 0.0, 0.02),
+                _cyl("y", (0.175, 0, 0), 0.17 - w, -0.26 + w, -0.10 - w))
+    table = _cyl("z", (0, 0, 0), 0.23, -0.07, 0.0)
+    out["frame"] = _casting(table + cheek, cav + _cyl("z", (0, 0, 0), 0.23 - w, -0.07 + w, -w),
+                            H["frame"])
+    # lower arm: tapered hull of its two hubs
+    wa = 0.008
+    arm = _hull(_cyl("y", (0, 0, 0), 0.15, -0.08, 0.08), _cyl("y", (0, 0, 0.9), 0.12, -0.08, 0.08))
+    arm_c = _hull(_cyl("y", (0, 0, 0), 0.15 - wa, -0.08 + wa, 0.08 - wa),
+                  _cyl("y", (0, 0, 0.9), 0.12 - wa, -0.08 + wa, 0.08 - wa))
+    out["lower_arm"] = _casting(arm, arm_c, H["lower_arm"])
+    # arm housing: hull of the joint-3 hub and the wrist-motor barrel along x
+    barrel = _cyl("x", (0, 0, 0.175), 0.12, -0.30, 0.10)
+    hs = _hull(_cyl("y", (0, 0, 0), 0.13, 0.09, 0.19), barrel)
+    wh = 0.010
+    hs_c = _hull(_cyl("y", (0, 0, 0), 0.13 - wh, 0.09 + wh, 0.19 - wh),
+                 _cyl("x", (0, 0, 0.175), 0.12 - wh, -0.30 + wh, 0.10 - wh))
+    out["arm_housing"] = _casting(hs, hs_c, H["arm_housing"])
+    # tube shaft: steel tube with a fork (two cheeks) carrying the joint-5 bearings
+    wt = 0.008
+    tube = _cyl("x", (0, 0, 0), 0.085, 0.22, 0.84)
+    fork = (_hull(_cyl("x", (0, 0, 0), 0.085, 0.82, 0.84),
+                  _cyl("y", (0.96, 0, 0), 0.075, 0.065, 0.10))
+            + _hull(_cyl("x", (0, 0, 0), 0.085, 0.82, 0.84),
+                    _cyl("y", (0.96, 0, 0), 0.075, -0.10, -0.065)))
+    tube_c = _cyl("x", (0, 0, 0), 0.085 - wt, 0.30, 0.84 - wt) + _box((0.84, -0.065, -0.2),
+                                                                      (1.1, 0.065, 0.2))
+    out["tube_shaft"] = _casting(tube + fork, tube_c, H["tube_shaft"])
+    # tilt housing: trunnion between the fork cheeks with the joint-6 nose
+    wtl = 0.010
+    th = _hull(_cyl("y", (0, 0, 0), 0.065, -0.062, 0.062), _cyl("x", (0, 0, 0), 0.06, 0.0, 0.115))
+    th_c = _hull(_cyl("y", (0, 0, 0), 0.065 - wtl, -0.062 + wtl, 0.062 - wtl),
+                 _cyl("x", (0, 0, 0), 0.06 - wtl, 0.0, 0.115 - wtl))
+    out["tilt_housing"] = _casting(th, th_c, H["tilt_housing"])
+    # turning disc: solid steel flange
+    out["turning_disc"] = _casting(_cyl("x", (0, 0, 0), 0.08, -0.025, 0.0), None,
+                                   H["turning_disc"])
+    return out
+
+
+def write_stl(path, vertices: np.ndarray, faces: np.ndarray, name: str) -> None:
+    """Write a binary STL with a fixed header (byte-reproducible)."""
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces, dtype=np.int64)
+    tri = v[f]
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    rec = np.zeros(len(f), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    rec["n"] = n
+    rec["v"] = tri
+    header = f"flexarm demo_arm {name} [m]".encode().ljust(80, b" ")
+    with open(path, "wb") as fh:
+        fh.write(header + struct.pack("<I", len(f)) + rec.tobytes())
+
+
+def _motor(name, mass, pos, radius, length, axis):
+    """Lumped motor+gear as a solid cylinder (inertia about its own centre)."""
+    a = "xyz".index(axis)
+    J = np.full(3, mass * (3 * radius**2 + length**2) / 12)
+    J[a] = mass * radius**2 / 2
+    return {"name": name, "mass": mass, "position": list(pos), "inertia": [float(x) for x in J]}
+
+
+#: Lumped motors, gearboxes and the balancing cylinder per link [kg, m].
+LUMPED = {
+    "frame": [_motor("motor_gear_1", 19.0, (-0.16, 0.12, 0.06), 0.09, 0.30, "z"),
+              _motor("motor_gear_2", 22.0, (0.175, -0.36, 0.0), 0.10, 0.25, "y"),
+              _motor("balancer", 10.0, (-0.05, 0.20, 0.20), 0.05, 0.50, "z")],
+    "lower_arm": [_motor("motor_gear_3", 21.0, (0.0, 0.17, 0.0), 0.09, 0.20, "y")],
+    "arm_housing": [_motor("motor_4", 8.0, (-0.38, 0.0, 0.175), 0.06, 0.20, "x"),
+                    _motor("motor_5", 6.0, (-0.25, 0.10, 0.26), 0.05, 0.18, "x"),
+                    _motor("motor_6", 6.0, (-0.25, -0.10, 0.26), 0.05, 0.18, "x"),
+                    _motor("gear_4", 4.0, (0.12, 0.0, 0.175), 0.08, 0.10, "x")],
+    "tube_shaft": [_motor("gear_5", 4.0, (0.96, 0.12, 0.0), 0.05, 0.06, "y")],
+    "tilt_housing": [_motor("gear_6", 2.5, (0.08, 0.0, 0.0), 0.05, 0.06, "x")],
+}
+
+#: Joint models (DESIGN §4): torsion [N m/rad], bearing tilt [N m/rad], limits [deg], gear
+#: ratio.  As in the thesis's E-model, the 3-D springs at joints 2 and 3 also lump the
+#: out-of-plane bending of the lower arm and arm housing (EI/L of the castings is a few
+#: 1e6 N m/rad), hence tilt stiffness of the order of the gear stiffness there.
+JOINTS = (
+    ("joint_1", 6.5e5, 3.0e7, (-180.0, 180.0), 120.0),
+    ("joint_2", 3.0e6, 3.0e6, (-90.0, 150.0), 150.0),
+    ("joint_3", 3.0e6, 3.0e6, (-180.0, 75.0), 120.0),
+    ("joint_4", 3.0e5, None, (-400.0, 400.0), 80.0),
+    ("joint_5", 2.5e5, None, (-125.0, 120.0), 80.0),
+    ("joint_6", 1.5e5, None, (-400.0, 400.0), 50.0),
+)
+POSES_DEG = {
+    "P1": [0.0, 52.0, -19.0, 12.0, -15.0, -11.0],
+    "P2": [0.0, 0.0, 66.0, 0.0, -66.0, 0.0],
+    "P3": [0.0, 32.0, 20.0, 101.0, -98.0, -35.0],
+    "home": [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+}
+#: TCP: a 150 mm tool on the flange, tool z along the flange normal (like ROS tool0).
+TOOL = {"xyz": [0.15, 0.0, 0.0], "rpy_deg": [0.0, 90.0, 0.0], "link": "turning_disc"}
+
+
+def _region(h: Hub, ring: float = 0.015) -> dict:
+    """Interface region on the bore surface of a hub (nodes within ``ring`` of it)."""
+    a = {"x": [1.0, 0.0, 0.0], "y": [0.0, 1.0, 0.0], "z": [0.0, 0.0, 1.0]}[h.axis]
+    mid = (h.lo + h.hi) / 2
+    c = [float(ci + mid * ai) for ci, ai in zip(h.c, a, strict=True)]
+    return {"center": c, "axis": a, "r_min": max(h.r_bore - ring, 0.0),
+            "r_max": h.r_bore + ring, "half_width": (h.hi - h.lo) / 2 + 0.005, "coupling": "rbe2"}
+
+
+def robot_dict() -> dict:
+    """The demo arm's robot description as a TOML-ready dict (meshes in ``meshes/``)."""
+    H = _hubs()
+    names = [lk[0] for lk in LINKS]
+    seats = {  # joint -> (hub on parent, hub on child)
+        "joint_1": (H["base"][0], H["frame"][0]),
+        "joint_2": (H["frame"][1], H["lower_arm"][0]),
+        "joint_3": (H["lower_arm"][1], H["arm_housing"][0]),
+        "joint_4": (H["arm_housing"][1], H["tube_shaft"][0]),
+        "joint_5": (H["tube_shaft"][1], H["tilt_housing"][0]),
+        "joint_6": (H["tilt_housing"][1], H["turning_disc"][0]),
+    }
+    links = []
+    for i, (name, mat, _, _) in enumerate(LINKS):
+        d = {"name": name, "mesh": f"meshes/{name}.stl", "units": "m", "material": mat}
+        if name in LUMPED:
+            d["lumped"] = LUMPED[name]
+        regions = {}
+        if i < len(JOINTS):
+            regions[JOINTS[i][0]] = _region(seats[JOINTS[i][0]][0])
+        if i > 0:
+            regions[JOINTS[i - 1][0]] = _region(seats[JOINTS[i - 1][0]][1])
+        if name == "turning_disc":
+            regions["tcp"] = {"center": [-0.0125, 0.0, 0.0], "axis": [1.0, 0.0, 0.0],
+                              "r_min": 0.03, "r_max": 0.08, "half_width": 0.0125,
+                              "coupling": "rbe3"}
+        d["regions"] = dict(sorted(regions.items()))
+        links.append(d)
+    joints = []
+    for j, (jname, k_t, k_tilt, lim, ratio) in enumerate(JOINTS):
+        _, _, origin, axis = LINKS[j + 1]
+        model = {"torsion": k_t, "tilt": k_tilt if k_tilt else "rigid", "radial": "rigid",
+                 "axial": "rigid", "damping_ratio": 0.03}
+        joints.append({"name": jname, "parent": names[j], "child": names[j + 1],
+                       "origin": list(origin), "rpy_deg": [0.0, 0.0, 0.0],
+                       "axis": [float(a) for a in axis], "limits_deg": list(lim),
+                       "gear_ratio": ratio, "model": model})
+    return {
+        "format_version": 1,
+        "name": "flexarm demo arm (IRB 4600-60/2.05 class)",
+        "model": {"element_order": 1, "mesh_size": 0.03, "cb_modes": 10},
+        "base": {"support": "clamped", "damping_ratio": 0.02},
+        "tool": TOOL,
+        "poses": POSES_DEG,
+        "links": links,
+        "joints": joints,
+    }
+
+
+def generate(folder) -> Path:
+    """Write ``meshes/*.stl`` and ``robot.toml`` into ``folder``; returns the TOML path."""
+    import tomli_w
+
+    folder = Path(folder)
+    (folder / "meshes").mkdir(parents=True, exist_ok=True)
+    log.info("generating demo arm CAD in %s", folder)
+    for name, solid in link_solids().items():
+        mesh = solid.to_mesh()
+        write_stl(folder / "meshes" / f"{name}.stl", np.asarray(mesh.vert_properties)[:, :3],
+                  np.asarray(mesh.tri_verts), name)
+    path = folder / "robot.toml"
+    text = "# Generated by `python -m flexarm.meshes.demo_arm`; do not edit by hand.\n"
+    path.write_bytes(text.encode() + tomli_w.dumps(robot_dict()).encode())
+    log.info("demo arm written: %s", path)
+    return path
+
+
+def demo_robot_path() -> Path:
+    """Path of the shipped demo ``robot.toml`` (package data)."""
+    return Path(str(resources.files("flexarm") / "data" / "demo_arm" / "robot.toml"))
+
+
+def load_demo_robot():
+    """The demo arm as a :class:`~flexarm.assembly.robot.Robot`."""
+    from ..assembly.formats.toml import read
+
+    return read(demo_robot_path())
+
+
+if __name__ == "__main__":
+    logging.basicConfig(level=logging.INFO)
+    target = Path(sys.argv[1]) if len(sys.argv) > 1 else demo_robot_path().parent
+    generate(target)

@@ -1,0 +1,44 @@
+"""Fixtures for the assembly tests: a session cache dir and the demo arm."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _session_cache(tmp_path_factory):
+    """Keep tet meshes and mass properties out of the user's cache (computed once per run)."""
+    old = os.environ.get("FLEXARM_CACHE")
+    os.environ["FLEXARM_CACHE"] = str(tmp_path_factory.mktemp("flexarm_cache"))
+    yield
+    if old is None:
+        os.environ.pop("FLEXARM_CACHE", None)
+    else:
+        os.environ["FLEXARM_CACHE"] = old
+
+
+@pytest.fixture(scope="session")
+def demo_robot():
+    from flexarm.meshes.demo_arm import load_demo_robot
+
+    return load_demo_robot()
+
+
+@pytest.fixture(scope="session")
+def demo_emodel(demo_robot):
+    """E-model of the demo arm with mass properties of its tetrahedral meshes."""
+    from flexarm.assembly.emodel import emodel
+
+    return emodel(demo_robot, method="tets")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Skip ``slow`` tests of this folder unless selected with ``-m slow``."""
+    if "slow" in (config.getoption("-m") or ""):
+        return
+    skip = pytest.mark.skip(reason="slow: run with -m slow")
+    for item in items:
+        if "slow" in item.keywords and "tests/assembly" in str(item.fspath).replace("\\", "/"):
+            item.add_marker(skip)
