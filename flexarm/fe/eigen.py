@@ -20,7 +20,7 @@ from .errors import ConvergenceError
 from .solvers import Factor, factorize
 from .tolerances import tol
 
-__all__ = ["Modes", "modes", "shift_invert", "auto_shift", "static_solve"]
+__all__ = ["Modes", "modes", "shift_invert", "auto_shift", "stiffness_scale", "static_solve"]
 
 log = logging.getLogger(__name__)
 
@@ -37,16 +37,19 @@ class Modes:
     omega2 : (k,) float
         Eigenvalues omega^2 [rad^2/s^2] (tiny negatives for rigid modes are kept).
     vectors : (n, k) float
-        Mass-normalised mode shapes (phi^T M phi = I); the largest component of
-        each is positive, so results are reproducible.
+        Mass-normalised mode shapes (phi^T M phi = I), signed so that their projection
+        on a fixed pseudo-random vector is positive: reproducible across backends.
     shift : float
-        The spectral shift used [rad^2/s^2]; rigid modes are |omega^2| below
-        ``tol.rigid_mode * max(|shift|, ...)``.
+        The spectral shift used [rad^2/s^2].
+    scale : float
+        Stiffness scale median(K_ii / M_ii) [rad^2/s^2]; rigid modes are those with
+        |omega^2| below ``tol.rigid_mode * scale`` (independent of the shift chosen).
     """
 
     omega2: np.ndarray
     vectors: np.ndarray
     shift: float = 0.0
+    scale: float = 0.0
 
     @property
     def omega(self) -> np.ndarray:
@@ -61,8 +64,7 @@ class Modes:
     @property
     def is_rigid(self) -> np.ndarray:
         """(k,) bool: near-zero modes (rigid-body motions of an unsupported part)."""
-        scale = max(abs(self.shift), 1e-300)
-        return np.abs(self.omega2) < tol.rigid_mode * scale
+        return np.abs(self.omega2) < tol.rigid_mode * self.scale
 
     @property
     def n_rigid(self) -> int:
@@ -72,6 +74,12 @@ class Modes:
         return int(self.omega2.size)
 
 
+def stiffness_scale(K: sp.spmatrix, M: sp.spmatrix) -> float:
+    """median(K_ii / M_ii) [rad^2/s^2]: the squared angular frequency of one element."""
+    kd, md = K.diagonal(), M.diagonal()
+    return float(np.median(kd[md > 0] / md[md > 0]))
+
+
 def auto_shift(K: sp.spmatrix, M: sp.spmatrix) -> float:
     """A small negative shift [rad^2/s^2] that makes ``K - shift M`` definite.
 
@@ -79,9 +87,7 @@ def auto_shift(K: sp.spmatrix, M: sp.spmatrix) -> float:
     reasonable mesh, so the ordering of the modes nearest the shift is the ordering of
     the lowest modes, rigid ones included.
     """
-    kd, md = K.diagonal(), M.diagonal()
-    ratio = kd[md > 0] / md[md > 0]
-    return -tol.auto_shift * float(np.median(ratio))
+    return -tol.auto_shift * stiffness_scale(K, M)
 
 
 def _normalise(omega2, vecs, M):
@@ -89,8 +95,10 @@ def _normalise(omega2, vecs, M):
     omega2, vecs = omega2[order], vecs[:, order]
     mnorm = np.sqrt(np.einsum("ik,ik->k", vecs, M @ vecs))
     vecs = vecs / mnorm
-    idx = np.argmax(np.abs(vecs), axis=0)
-    signs = np.sign(vecs[idx, np.arange(vecs.shape[1])])
+    # The largest component often ties on symmetric parts; a projection on a fixed
+    # random vector does not, so every backend gives the same signs.
+    probe = np.random.default_rng(12345).standard_normal(vecs.shape[0])
+    signs = np.sign(probe @ vecs)
     return omega2, vecs * np.where(signs == 0, 1.0, signs)
 
 
@@ -111,7 +119,7 @@ def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: in
         if n >= size - 1 or size <= DENSE_LIMIT:
             w, v = sla.eigh(K.toarray(), M.toarray())
             w, v = _normalise(w[:n], v[:, :n], M)
-            return Modes(w, v, s)
+            return Modes(w, v, s, stiffness_scale(K, M))
         t0 = time.perf_counter()
         if factor is None:
             A = (K - s * M) if s != 0.0 else K
@@ -130,7 +138,7 @@ def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: in
             ) from None
         w, v = _normalise(w, v, M)
         log.info("%d modes of %d DOF in %.2f s", n, size, time.perf_counter() - t0)
-        return Modes(w, v, s)
+        return Modes(w, v, s, stiffness_scale(K, M))
 
     return solve
 

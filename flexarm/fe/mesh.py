@@ -66,9 +66,8 @@ class TetMesh:
         if tets.ndim != 2 or tets.shape[1] not in (4, 10):
             raise ValueError(f"tets must be (m, 4) or (m, 10), got {tets.shape}")
         if tets.size and (tets.min() < 0 or tets.max() >= len(points)):
-            raise MeshError(
-                f"tets reference node {int(tets.max())} but the mesh has {len(points)} nodes"
-            )
+            bad = int(tets.min()) if tets.min() < 0 else int(tets.max())
+            raise MeshError(f"tets reference node {bad} but the mesh has {len(points)} nodes")
         sets = _frozen_sets(self.node_sets)
         for name, ids in sets.items():
             if ids.size and (ids.min() < 0 or ids.max() >= len(points)):

@@ -17,10 +17,11 @@ class Tolerances:
     degenerate_volume: float = 1e-12
     #: Relative asymmetry ||A - A^T||_max / ||A||_max accepted for "symmetric" matrices.
     symmetry: float = 1e-10
-    #: Rigid-body modes: |omega^2| below this fraction of the shift scale counts as zero.
-    rigid_mode: float = 1e-6
-    #: Eigenvalue shift for free parts, as a fraction of median(K_ii / M_ii).
-    auto_shift: float = 1e-6
+    #: Rigid-body modes: |omega^2| below this fraction of median(K_ii / M_ii) counts as zero.
+    rigid_mode: float = 1e-12
+    #: Eigenvalue shift for free parts, as a fraction of median(K_ii / M_ii): small, so that
+    #: thin parts (first elastic omega^2 ~ 1e-9 of the mesh scale) still converge quickly.
+    auto_shift: float = 1e-10
     #: ARPACK relative accuracy (0 = machine precision).
     arpack: float = 0.0
     #: Plausible size of one robot part [m]: outside this, the units are probably wrong.

@@ -1,0 +1,112 @@
+"""Tiny canonical fixtures shared by the whole test suite.
+
+Everything here is small enough to build in milliseconds; anything bigger belongs in
+the test module that needs it (with ``scope="module"``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from flexarm.fe import MATERIALS, Material, TetMesh, select_nodes
+
+
+@pytest.fixture(scope="session")
+def steel() -> Material:
+    """E = 210 GPa, nu = 0.3, rho = 7850 kg/m^3."""
+    return MATERIALS["steel"]
+
+
+def _with_ends(mesh: TetMesh) -> TetMesh:
+    return mesh.with_node_sets(
+        {"fixed": select_nodes(mesh, "x=min"), "tip": select_nodes(mesh, "x=max")}
+    )
+
+
+@pytest.fixture(scope="session")
+def two_element_cantilever() -> TetMesh:
+    """The smallest cantilever: 2 hexahedral cells (12 Tet4), 1.0 x 0.1 x 0.1 m.
+
+    Node sets ``fixed`` (x = 0) and ``tip`` (x = 1 m).
+    """
+    return _with_ends(TetMesh.box((1.0, 0.1, 0.1), (2, 1, 1)))
+
+
+@pytest.fixture(scope="session")
+def tet10_bar() -> TetMesh:
+    """Tet10 bar 1.0 x 0.1 x 0.1 m, 10 x 2 x 2 cells (1575 DOF), node sets ``fixed``/``tip``.
+
+    Big enough (> ``eigen.DENSE_LIMIT`` free DOFs) that eigen-solves take the
+    factorise + ARPACK path, small enough to solve in a fraction of a second.
+    """
+    return _with_ends(TetMesh.box((1.0, 0.1, 0.1), (10, 2, 2), order=2))
+
+
+def perturbed_box(order: int = 1, divisions=(3, 3, 3), amplitude: float = 0.3,
+                  curved: float = 0.0, seed: int = 0) -> TetMesh:
+    """An irregular mesh of the unit cube (boundary nodes stay on the faces).
+
+    Interior corner nodes move by up to ``amplitude`` x cell size (uniform random,
+    fixed seed); with ``order=2`` and ``curved > 0`` every mid-edge node (boundary ones
+    too) moves by up to ``curved`` x cell size, which curves the element edges.
+    Raises if any element comes out inverted.
+    """
+    rng = np.random.default_rng(seed)
+    base = TetMesh.box((1.0, 1.0, 1.0), divisions)
+    h = 1.0 / max(divisions)
+    pts = base.points.copy()
+    inner = np.all((pts > 1e-9) & (pts < 1 - 1e-9), axis=1)
+    pts[inner] += rng.uniform(-amplitude * h / 2, amplitude * h / 2, (int(inner.sum()), 3))
+    mesh = TetMesh(pts, base.tets).check("perturbed box")
+    if order == 2:
+        mesh = mesh.to_tet10()
+        if curved:
+            pts = mesh.points.copy()
+            mids = np.arange(base.n_nodes, mesh.n_nodes)
+            pts[mids] += rng.uniform(-curved * h / 2, curved * h / 2, (len(mids), 3))
+            mesh = TetMesh(pts, mesh.tets)
+    return mesh
+
+
+@pytest.fixture(scope="session")
+def make_perturbed_box():
+    """The factory :func:`perturbed_box` (for meshes with other seeds or amplitudes)."""
+    return perturbed_box
+
+
+@pytest.fixture(scope="session")
+def irregular_tet4() -> TetMesh:
+    """Unit cube, 3 x 3 x 3 cells, interior nodes perturbed (seed 0)."""
+    return perturbed_box(order=1)
+
+
+@pytest.fixture(scope="session")
+def irregular_tet10() -> TetMesh:
+    """Unit cube, 3 x 3 x 3 cells, interior corners perturbed, straight mid-edge nodes."""
+    return perturbed_box(order=2)
+
+
+@pytest.fixture(scope="session")
+def curved_tet10() -> TetMesh:
+    """As ``irregular_tet10`` with every mid-edge node moved by up to 5 % of the cell."""
+    return perturbed_box(order=2, curved=0.1)
+
+
+def rigid_body_vectors(points: np.ndarray, center=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """(3n, 6): unit translations x, y, z then unit rotations about x, y, z at ``center``."""
+    r = np.asarray(points, dtype=float) - np.asarray(center, dtype=float)
+    n = len(r)
+    out = np.zeros((n, 3, 6))
+    for i in range(3):
+        out[:, i, i] = 1.0
+    # rotation about axis k: u = e_k x r
+    for k in range(3):
+        out[:, :, 3 + k] = np.cross(np.eye(3)[k], r)
+    return out.reshape(3 * n, 6)
+
+
+@pytest.fixture(scope="session")
+def make_rigid_body_vectors():
+    """The factory :func:`rigid_body_vectors`."""
+    return rigid_body_vectors
