@@ -420,7 +420,7 @@ def _run_reduce(args) -> int:
                                 ["superelement", st["n_reduced"]]]))
     _print(_table(["interface", "region nodes", "position [m]"],
                   [[n, st["region_nodes"][n], np.array2string(p, precision=4)]
-                   for n, p in zip(se.interface_names, se.interface_positions)]))
+                   for n, p in zip(se.interface_names, se.interface_positions, strict=True)]))
     if se.n_modes:
         _print(_table(["mode", "fixed-interface freq [Hz]"],
                       [[i + 1, float(f)] for i, f in enumerate(se.freq_hz)]))

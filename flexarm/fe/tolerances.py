@@ -47,6 +47,17 @@ class Tolerances:
     collinear: float = 1e-9
     #: Below this angle [rad] SLERP falls back to normalised linear interpolation.
     slerp_small_angle: float = 1e-9
+    #: Region nodes: smallest / largest eigenvalue of the (weighted) second-moment tensor
+    #: about the centroid below which they count as collinear (cannot carry a rotation).
+    region_collinear: float = 1e-8
+    #: Nodes needed at least in a region to carry 6 DOFs (3 non-collinear points).
+    min_region_nodes: int = 3
+    #: Relative asymmetry accepted when loading a superelement file.
+    file_symmetry: float = 1e-10
+    #: Most negative eigenvalue of a loaded K accepted, relative to its largest.
+    file_psd: float = 1e-8
+    #: Render-probe subprocess time limit [s].
+    render_probe_seconds: float = 60.0
 
 
 tol = Tolerances()

@@ -1,0 +1,58 @@
+"""Matrix Market bundle: a folder ``NAME.mtx/`` with ``K.mtx``, ``M.mtx`` and
+``superelement.json`` (interfaces, frames, frequencies, mass properties, hash).
+
+Matrix Market is read by MATLAB (``mmread``), Julia (MatrixMarket.jl), SciPy and most
+sparse libraries.  The recovery matrix and surface mesh are not part of this export.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import scipy.io
+
+from ...fe.errors import ReadError
+from ..superelement import Superelement, from_arrays
+from ._meta import meta_from_json, meta_json
+
+__all__ = ["read", "write"]
+
+
+def write(path, se: Superelement) -> None:
+    """Write the bundle folder ``path`` atomically (replacing an existing bundle)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    try:
+        for name in ("K", "M"):
+            scipy.io.mmwrite(tmp / f"{name}.mtx", np.asarray(getattr(se, name)),
+                             comment=f"flexarm superelement {name} (SI units)",
+                             symmetry="symmetric")
+        (tmp / "superelement.json").write_text(meta_json(se) + "\n")
+        if path.is_dir() and (path / "superelement.json").exists():
+            shutil.rmtree(path)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp)
+
+
+def read(path) -> Superelement:
+    """Read a bundle written by :func:`write`."""
+    path = Path(path)
+    meta = path / "superelement.json"
+    if not path.is_dir() or not meta.exists():
+        raise ReadError(f"{path}: not a Matrix Market superelement folder "
+                        "(needs K.mtx, M.mtx, superelement.json)")
+    d = meta_from_json(meta.read_text())
+    for name in ("K", "M"):
+        f = path / f"{name}.mtx"
+        if not f.exists():
+            raise ReadError(f"{path}: missing {name}.mtx")
+        A = scipy.io.mmread(f)
+        d[name] = np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=np.float64)
+    return from_arrays(d, str(path))

@@ -1,0 +1,157 @@
+"""Pictures of superelement results with PyVista: PNG, animated GIF, or a window.
+
+Off-screen rendering needs a system GL library; without one VTK *crashes the process*
+instead of raising.  :func:`render_backend` therefore first tries a tiny render in a
+subprocess (EGL, then OSMesa, then VTK's default window) and raises a clear
+:class:`FlexarmError` when none works.  pyvista and imageio are imported only here.
+"""
+
+from __future__ import annotations
+
+import functools
+import logging
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..fe.errors import FlexarmError, MissingDependencyError
+from .recovery import mode_shape
+from .superelement import Superelement
+from ..fe.tolerances import tol
+
+__all__ = ["render_backend", "has_display", "render_field", "render_mode"]
+
+log = logging.getLogger(__name__)
+
+_WINDOWS = ("vtkEGLRenderWindow", "vtkOSOpenGLRenderWindow", "")
+_PROBE = ("import pyvista as pv; p = pv.Plotter(off_screen=True, window_size=(64, 64)); "
+          "p.add_mesh(pv.Sphere()); p.screenshot(return_img=True); p.close()")
+
+
+def has_display() -> bool:
+    """True when an interactive window can be opened (X11/Wayland, or macOS/Windows)."""
+    if sys.platform in ("darwin", "win32"):
+        return True
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+@functools.lru_cache(maxsize=1)
+def render_backend() -> str:
+    """The VTK render window class that renders off-screen here ("" = VTK's default).
+
+    Sets ``VTK_DEFAULT_OPENGL_WINDOW`` for this process.  A user setting is probed
+    first and kept if it works.
+    """
+    import importlib.util
+
+    for mod in ("pyvista", "imageio"):
+        if importlib.util.find_spec(mod) is None:
+            raise MissingDependencyError(mod, "pictures")
+    user = os.environ.get("VTK_DEFAULT_OPENGL_WINDOW")
+    tried = []
+    for window in ((user,) if user else ()) + _WINDOWS:
+        env = dict(os.environ, VTK_DEFAULT_OPENGL_WINDOW=window)
+        try:
+            ok = subprocess.run([sys.executable, "-c", _PROBE], env=env, capture_output=True,
+                                timeout=tol.render_probe_seconds).returncode == 0
+        except subprocess.TimeoutExpired:
+            ok = False
+        tried.append(window or "default")
+        if ok:
+            os.environ["VTK_DEFAULT_OPENGL_WINDOW"] = window
+            log.info("off-screen rendering with %s", window or "VTK's default window")
+            return window
+    raise FlexarmError(
+        "cannot render off-screen (tried " + ", ".join(tried) + "): install a GL library, "
+        "e.g. 'apt-get install libegl1 libgl1-mesa-dri' or 'apt-get install libosmesa6'"
+    )
+
+
+def _surface(se: Superelement):
+    if se.surface_points is None or se.T is None:
+        raise FlexarmError("this superelement has no surface mesh or recovery matrix "
+                           "(read it from HDF5 or NPZ, not from DMIG or Matrix Market)")
+    import pyvista as pv
+
+    faces = np.column_stack([np.full(len(se.surface_faces), 3), se.surface_faces]).ravel()
+    return pv.PolyData(np.asarray(se.surface_points, dtype=float), faces)
+
+
+def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
+                 amplitude: float = 0.1, n_frames: int = 24, interactive: bool = False,
+                 window_size=(1024, 768)) -> Path | None:
+    """Draw the surface deformed by ``u`` (n_nodes, 3) [m], coloured by |u|.
+
+    Parameters
+    ----------
+    path : str or Path, optional
+        ``.png`` (still) or ``.gif`` (``n_frames`` of a harmonic oscillation).
+    amplitude : float
+        Largest drawn displacement as a fraction of the bounding-box diagonal.
+    interactive : bool
+        Also open a window (only when :func:`has_display`).
+    """
+    if interactive and not has_display():
+        raise FlexarmError("--interactive needs a display (DISPLAY or WAYLAND_DISPLAY is unset)")
+    if path is None and not interactive:
+        raise ValueError("give an output path (.png or .gif) or interactive=True")
+    suffix = Path(path).suffix.lower() if path is not None else ""
+    if path is not None and suffix not in (".png", ".gif"):
+        raise ValueError(f"picture must be .png or .gif, got '{path}'")
+    if path is not None:
+        render_backend()
+    import pyvista as pv
+
+    surf = _surface(se)
+    us = np.asarray(u, dtype=float)[se.surface_nodes]
+    mag = np.linalg.norm(us, axis=1)
+    diag = float(np.linalg.norm(np.ptp(surf.points, axis=0)))
+    scale = amplitude * diag / max(float(mag.max()), np.finfo(float).tiny)
+    base = surf.points.copy()
+    moved = surf.copy()
+    moved.points = base + scale * us
+    moved["|u|"] = mag
+    out = None
+    if path is not None:
+        p = pv.Plotter(off_screen=True, window_size=window_size)
+        p.add_mesh(surf, style="wireframe", color="grey", opacity=0.35)
+        p.add_mesh(moved, scalars="|u|", cmap="viridis", show_scalar_bar=True)
+        p.add_title(title, font_size=12)
+        p.view_isometric()
+        p.camera.zoom(1.1)
+        out = Path(path)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        if suffix == ".png":
+            p.screenshot(str(out))
+        else:
+            p.open_gif(str(out))
+            for phase in np.sin(2 * np.pi * np.arange(n_frames) / n_frames):
+                moved.points = base + phase * scale * us  # one update per frame
+                p.write_frame()
+        p.close()
+    if interactive:
+        moved.points = base + scale * us
+        q = pv.Plotter()
+        q.add_mesh(surf, style="wireframe", color="grey", opacity=0.35)
+        q.add_mesh(moved, scalars="|u|", cmap="viridis")
+        q.add_title(title, font_size=12)
+        q.show()
+    return out
+
+
+def render_mode(se: Superelement, mode: int, path=None, boundary: str | None = None,
+                **options) -> Path | None:
+    """Picture of mode ``mode`` (1-based) with its frequency in the title.
+
+    ``boundary`` defaults to ``"fixed"`` (Craig-Bampton modes) when the superelement
+    has that many modes, else ``"free"`` (elastic modes of the free part).
+    """
+    if boundary is None:
+        boundary = "fixed" if mode <= se.n_modes else "free"
+    freq, u = mode_shape(se, mode, boundary)
+    kind = "fixed-interface" if boundary == "fixed" else "free"
+    title = f"{kind} mode {mode}: {freq:.2f} Hz"
+    return render_field(se, u, path, title, **options)
