@@ -526,6 +526,297 @@ def _run_study_part(args) -> int:
     return 0
 
 
+# --- contact applications (issue 7): circle | chatter | chatter-map ---------------------
+def _add_circle(p: argparse.ArgumentParser) -> None:
+    _add_arm_common(p, pose=False)
+    p.add_argument("--rapid", default=None, help="RAPID module (default: the thesis's appendix B)")
+    p.add_argument("--proc", default="Path_30", help="procedure name")
+    p.add_argument("--loads", default="0,200,400,800", help="bar forces [N], comma-separated")
+    p.add_argument("--pull", action="store_true", help="the bar pulls (default: pushes)")
+    p.add_argument("--pivot", default=None, help="bar pivot x,y,z [mm] (default: fitted)")
+    p.add_argument("--tool", default="tool0", choices=["tool0", "robot"],
+                   help="load point: flange (tool0, as programmed) or the robot's TCP")
+    p.add_argument("--step", type=float, default=2.0, help="path sampling step [mm]")
+    p.add_argument("--measured", default=None, help="measured path or static CSV to overlay")
+
+
+@command("circle", "loaded circle test (LDBB): deviation, polar plot, Z along the path",
+         _add_circle)
+def _run_circle(args) -> int:
+    from importlib.resources import files
+
+    from .assembly.contact import measured_deviation, predict_circle, rapid_circle
+    from .assembly.contact.plots import plot_circle_polar, plot_circle_top, plot_circle_z
+    from .assembly.formats.rapid import read_rapid
+
+    robot, arm = _arm_from_args(args)
+    mod = read_rapid(args.rapid or files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod")
+    if args.proc not in mod.procedures:
+        raise ValueError(f"no procedure {args.proc} (module has {sorted(mod.procedures)})")
+    pivot = None if args.pivot is None else np.array(args.pivot.split(","), float) * 1e-3
+    setup = rapid_circle(robot, mod, args.proc, pivot, args.tool, args.step)
+    loads = np.array(args.loads.split(","), dtype=float)
+    pred = predict_circle(arm, setup, loads, pull=args.pull)
+    _print(f"{args.proc}: {len(setup.points)} samples, load point {args.tool}, pivot "
+           f"{np.round(setup.pivot * 1e3, 3).tolist()} mm, bar {setup.bar_length.mean() * 1e3:.3f}"
+           f" mm, circle R {setup.radius * 1e3:.3f} mm; conf met at "
+           f"{int(setup.ik.is_conf_met.sum())}/{len(setup.ik.is_conf_met)} targets")
+    for note in setup.ik.notes:
+        _print(f"  note: {note}")
+    ang = np.degrees(setup.angles)
+    for F, b, z in zip(loads, pred.bar, pred.normal, strict=True):
+        k = int(np.argmax(np.abs(b)))
+        _print(f"  {F:6.0f} N: max |bar| {np.abs(b).max() * 1e3:.4f} mm at {ang[k]:7.1f} deg,"
+               f" max |normal| {np.abs(z).max() * 1e3:.4f} mm")
+    meas = None
+    if args.measured:
+        from .validation import read_measurements
+
+        data = read_measurements(args.measured)
+        if hasattr(data, "points"):
+            meas = measured_deviation(setup, data.points, data.force)
+        else:
+            raise ValueError("--measured: give a path CSV (step, x_mm, y_mm, z_mm, f_N)")
+    if args.output:
+        os.makedirs(args.output, exist_ok=True)
+        cols = [np.arange(len(ang)), ang, *(setup.points * 1e3).T]
+        head = ["step", "angle_deg", "x_mm", "y_mm", "z_mm"]
+        for F, b, r, z in zip(loads, pred.bar, pred.radial, pred.normal, strict=True):
+            cols += [b * 1e3, r * 1e3, z * 1e3]
+            head += [f"bar_mm_{F:.0f}N", f"radial_mm_{F:.0f}N", f"normal_mm_{F:.0f}N"]
+        csv = os.path.join(args.output, f"circle_{args.proc}.csv")
+        np.savetxt(csv, np.column_stack(cols), delimiter=",", header=",".join(head),
+                   comments="", fmt="%.9g")
+        _print(f"wrote {csv}")
+        for path in (plot_circle_top(pred, os.path.join(args.output, "circle_top.png")),
+                     plot_circle_polar(pred, os.path.join(args.output, "circle_polar.png"), meas),
+                     plot_circle_z(pred, os.path.join(args.output, "circle_z.png"), meas)):
+            _print(f"wrote {path}")
+    return 0
+
+
+def _add_chatter(p: argparse.ArgumentParser) -> None:
+    _add_arm_common(p)
+    p.add_argument("--kc", type=float, default=2e6, help="process stiffness K_c*b [N/m]")
+    p.add_argument("--dir", type=float, default=30.0, help="force angle from the normal [deg]")
+    p.add_argument("--normal", type=float, default=None,
+                   help="surface-normal angle from e1 in the plane [deg] (default: worst case)")
+    p.add_argument("--cnc-stiffness", type=float, default=5e7, help="CNC stiffness [N/m]")
+    p.add_argument("--duration", type=float, default=2.0, help="simulated time [s]")
+
+
+@command("chatter", "mode-coupling chatter at a pose (2-DOF, closed form + simulation) vs a CNC",
+         _add_chatter)
+def _run_chatter(args) -> int:
+    from .assembly.contact import analyse, cnc_model, critical_kcb, plane_model, simulate
+    from .assembly.contact.chatter import process_vectors
+    from .assembly.contact.chatter_map import worst_normal
+    from .assembly.contact.plots import plot_chatter_orbit, plot_chatter_time
+
+    robot, arm = _arm_from_args(args)
+    q = _pose_from_args(robot, args)
+    pm = plane_model(arm, q)
+    normal = args.normal
+    if normal is None:
+        normal = float(worst_normal(pm.M, pm.C, pm.K, args.dir)[1])
+    cnc = cnc_model(args.cnc_stiffness, float(np.trace(pm.M)) / 2, axes=pm.axes)
+    n, f = process_vectors(normal, args.dir)
+    _print(f"plane e1={np.round(pm.axes[0], 3).tolist()} e2={np.round(pm.axes[1], 3).tolist()}; "
+           f"normal {normal:.1f} deg, force {args.dir:.1f} deg from it, K_c b {args.kc:.3g} N/m")
+    runs, stable = [], []
+    for model in (pm, cnc):
+        res = analyse(model, args.kc, args.dir, normal)
+        lim = float(critical_kcb(model.M, model.C, model.K, n, f))
+        ks = np.linalg.eigvalsh(model.K)
+        _print(f"{model.name:5s}: K principal {ks[0]:.3g}/{ks[1]:.3g} N/m, M diag "
+               f"{np.diag(model.M).round(1).tolist()} kg, growth {res.growth_rate:+.3f} 1/s, "
+               f"limit K_c b {lim:.3g} N/m -> {'stable' if res.is_stable else 'UNSTABLE'}")
+        t, x = simulate(model.M, model.C, res.K_total, 1e-5 * n, args.duration)
+        stable.append(res.is_stable)
+        runs.append((f"{model.name}: {'stable' if res.is_stable else 'chatter'}, growth "
+                     f"{res.growth_rate:+.2f} 1/s", t, x))
+    verdict = "; ".join(f"{m.name} {'stable' if ok else 'CHATTERS (mode coupling)'}"
+                        for m, ok in zip((pm, cnc), stable, strict=True))
+    _print(f"verdict: {verdict}")
+    if args.output:
+        os.makedirs(args.output, exist_ok=True)
+        _print(f"wrote {plot_chatter_time(runs, os.path.join(args.output, 'chatter_time.png'))}")
+        _print(f"wrote {plot_chatter_orbit(runs, os.path.join(args.output, 'chatter_orbit.png'))}")
+    return 0
+
+
+def _add_chatter_map(p: argparse.ArgumentParser) -> None:
+    _add_arm_common(p)
+    p.add_argument("--dir", type=float, default=30.0, help="force angle from the normal [deg]")
+    p.add_argument("--normal", type=float, default=None,
+                   help="surface-normal angle in the plane [deg] (default: worst case)")
+    p.add_argument("--n", type=int, default=25, help="grid points per joint")
+
+
+@command("chatter-map", "limit K_c*b (mode coupling) over joints 2 and 3 (CSV, PNG)",
+         _add_chatter_map)
+def _run_chatter_map(args) -> int:
+    from .assembly.contact import chatter_map, recommendation
+    from .assembly.contact.plots import plot_chatter_map
+
+    robot, arm = _arm_from_args(args)
+    q = _pose_from_args(robot, args)
+    lo, hi = robot.lower, robot.upper
+    cm = chatter_map(arm, q, np.linspace(lo[1], hi[1], args.n), np.linspace(lo[2], hi[2], args.n),
+                     args.dir, args.normal, lower=lo, upper=hi)
+    for b2, b3, k in cm.best(3):
+        _print(f"best: q2={b2:7.1f} deg q3={b3:7.1f} deg limit K_c b={k:.3g} N/m")
+    _print(recommendation(cm))
+    if args.output:
+        os.makedirs(args.output, exist_ok=True)
+        G2, G3 = np.meshgrid(np.degrees(cm.q2), np.degrees(cm.q3), indexing="ij")
+        csv = os.path.join(args.output, "chatter_map.csv")
+        np.savetxt(csv, np.column_stack([G2.ravel(), G3.ravel(), cm.kcb.ravel(),
+                                         cm.normal_deg.ravel(), cm.k_weak.ravel()]),
+                   delimiter=",", header="q2_deg,q3_deg,kcb_limit_N/m,normal_deg,k_weak_N/m",
+                   comments="", fmt="%.9g")
+        _print(f"wrote {csv}")
+        _print(f"wrote {plot_chatter_map(cm, os.path.join(args.output, 'chatter_map.png'))}")
+    return 0
+
+
+# --- validation: lab | compare | diagnose (issue 6) -----------------------------------
+def _validation_arm(args):
+    """Robot (with its optional [nonlinear] table) and its E-model."""
+    from .assembly.emodel import emodel
+    from .meshes.demo_arm import load_demo_robot
+    from .validation.history import read_robot_effects
+
+    if args.robot is None:
+        robot, effects = load_demo_robot(), []
+    else:
+        robot, effects = read_robot_effects(args.robot)
+    return robot, emodel(robot, method=args.mass, mesh_size=robot.options.mesh_size), effects
+
+
+def _add_validation_common(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML (default: built-in demo arm)")
+    p.add_argument("--mass", default="surface", choices=["tets", "surface"],
+                   help="link mass properties from CAD surfaces (default) or tet meshes")
+
+
+def _add_lab(p: argparse.ArgumentParser) -> None:
+    _add_validation_common(p)
+    p.add_argument("--effect", action="append", default=[],
+                   help="hidden effect, e.g. backlash:j2=0.1mrad (repeatable)")
+    p.add_argument("--noise", default="15um", help="tracker noise, e.g. 15um")
+    p.add_argument("--poses", default="P1,P2,P3", help="named poses")
+    p.add_argument("--loads", default="0:800:100", help="load levels [N] start:stop:step")
+    p.add_argument("--dirs", default="x,y,z", help="load directions, e.g. x,y,z,-z")
+    p.add_argument("--cycles", action="store_true", help="load then unload each series")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("-o", "--output", required=True, help="static CSV to write")
+
+
+@command("lab", "virtual lab: static series from the model + hidden effects + tracker noise",
+         _add_lab)
+def _run_lab(args) -> int:
+    from .validation.effects import parse_effect
+    from .validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab, write_lab
+    from .validation.units import si_factor
+
+    robot, arm, base_effects = _validation_arm(args)
+    m = __import__("re").fullmatch(r"([0-9.eE+-]+)\s*([a-z]*)", args.noise.strip())
+    if not m:
+        raise ValueError(f"--noise '{args.noise}': expected a length like 15um")
+    noise = float(m.group(1)) * (float(si_factor("length", m.group(2))) if m.group(2) else 1.0)
+    effects = list(base_effects) + [parse_effect(s, len(robot.joints)) for s in args.effect]
+    plan = LabPlan({p: robot.pose(p) for p in args.poses.split(",")}, parse_loads(args.loads),
+                   parse_dirs(args.dirs), args.cycles)
+    data = virtual_lab(arm, plan, effects, noise, args.seed)
+    truth = {"effects": [e.to_dict() for e in effects], "noise_m": noise, "seed": args.seed,
+             "robot": args.robot or "demo"}
+    path, tpath = write_lab(args.output, data, truth)
+    _print(f"wrote {path} ({len(data.series)} readings, {data.n_series} series) and {tpath}")
+    return 0
+
+
+def _add_compare(p: argparse.ArgumentParser) -> None:
+    p.add_argument("data", help="static measurement CSV")
+    _add_validation_common(p)
+    p.add_argument("--noise", type=float, default=15.0, help="tracker noise [um] (no sigma column)")
+    p.add_argument("-o", "--output", default=None, help="report folder (CSV, PNG)")
+
+
+@command("compare", "model predictions vs static measurements: errors, chi2_red, plots",
+         _add_compare)
+def _run_compare(args) -> int:
+    from .validation import read_measurements
+    from .validation.compare import compare_static, write_report
+
+    robot, arm, effects = _validation_arm(args)
+    data = read_measurements(args.data)
+    cmp = compare_static(arm, data, effects, args.noise * 1e-6)
+    _print(_table(["series", "mean_abs_mm", "max_abs_mm", "relative", "max_meas_mm"],
+                  [[r["series"], r["mean_abs_mm"], r["max_abs_mm"], r["relative"],
+                    r["max_meas_mm"]] for r in cmp.table], "{:.4f}"))
+    lo, hi = cmp.band
+    _print(f"chi2_red = {cmp.chi2_red:.3f} (band {lo:.3f}-{hi:.3f} for the stated noise), "
+           f"RMS = {cmp.rms * 1e6:.1f} um")
+    if args.output:
+        for p in write_report(args.output, cmp):
+            _print(f"wrote {p}")
+    return 0
+
+
+def _add_diagnose(p: argparse.ArgumentParser) -> None:
+    p.add_argument("data", help="static measurement CSV")
+    _add_validation_common(p)
+    p.add_argument("--noise", type=float, default=15.0, help="tracker noise [um] (no sigma column)")
+    p.add_argument("--apply", action="store_true", help="write a robot TOML with the accepted "
+                   "effects and fitted parameters (-o)")
+    p.add_argument("-o", "--output", default=None, help="robot TOML for --apply")
+    p.add_argument("--report", default=None, help="folder for the history CSV/JSON/PNG")
+
+
+@command("diagnose", "find which physical effect the model misses in static measurements",
+         _add_diagnose)
+def _run_diagnose(args) -> int:
+    from .validation import read_measurements
+    from .validation.diagnose import diagnose
+    from .validation.history import robot_with_effects, write_history, write_robot
+
+    if args.apply and not args.output:
+        raise ValueError("--apply needs -o NEW_ROBOT.toml")
+    robot, arm, effects = _validation_arm(args)
+    if effects:
+        raise ValueError("diagnose starts from a linear model: the robot file already has "
+                         "a [nonlinear] table")
+    data = read_measurements(args.data)
+    dg = diagnose(arm, data, args.noise * 1e-6)
+    sv = dg.identifiability["singular_values"]
+    _print(f"identifiability: condition {dg.identifiability['condition']:.3g}, singular "
+           f"values {', '.join(f'{v:.3g}' for v in sv)}")
+    for j, s in dg.identifiability["sign_changes"].items():
+        _print(f"  {j} torque changes sign in: {', '.join(s) if s else 'no series'}")
+    for k, v in dg.identifiability.get("leave_one_pose_out", {}).items():
+        _print(f"  leave-one-pose-out chi2_red on {k}: {v:.3f}")
+    for i, st in enumerate(dg.steps):
+        _print(f"\nv{i} {st.label}: chi2_red {st.chi2_red:.3f} (band {st.band[0]:.3f}-"
+               f"{st.band[1]:.3f}), RMS fitted {st.rms_fit * 1e6:.1f} um, held-out "
+               f"{st.rms_heldout * 1e6:.1f} um")
+        if st.candidates:
+            _print(_table(["candidate", "status", "dBIC", "unique", "norm", "detail"],
+                          [[c.label, c.status, f"{c.dbic:.1f}", f"{c.unique:.2f}",
+                            f"{c.norm:.1f}", c.detail] for c in st.candidates]))
+        if st.winner:
+            _print(("ACCEPTED: " if st.accepted else "best, not accepted: ") + st.explanation)
+    for n in dg.notes:
+        _print(f"note: {n}")
+    if args.report:
+        for p in write_history(args.report, dg):
+            _print(f"wrote {p}")
+    if args.apply:
+        new, nonlinear = robot_with_effects(robot, arm, dg.final_effects)
+        _print(f"wrote {write_robot(args.output, new, nonlinear)}")
+    return 0
+
+
 # ----------------------------------------------------------------------------- main
 def _parser() -> argparse.ArgumentParser:
     from . import __version__

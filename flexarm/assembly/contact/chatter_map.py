@@ -1,0 +1,205 @@
+"""Limit cutting stiffness ``K_c b`` in closed form, and its map over joints 2 and 3.
+
+Every coefficient of ``p(s) = det(M s^2 + C s + K + k f n^T)`` is affine in ``k``
+(rank-one process stiffness): ``a_i(k) = alpha_i + k beta_i``.  Stability is lost
+where a real root crosses ``s = 0`` (``a0(k) = 0``) or a complex pair crosses the
+imaginary axis (Hurwitz determinant ``a1 (a2 a3 - a1 a4) - a0 a3^2 = 0``, a cubic in
+``k``).  The limit ``K_c b`` is the smallest positive such root above which the
+Routh–Hurwitz test fails; ``inf`` when none does.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...fe.tolerances import tol
+from ...fe.typing import ArrayLike, FloatArray
+from ..system import ArmModel
+from .chatter import char_poly, is_stable, plane_model, process_vectors
+
+__all__ = ["critical_kcb", "worst_normal", "ChatterMap", "chatter_map", "recommendation"]
+
+log = logging.getLogger(__name__)
+
+
+def _pmul(p: FloatArray, q: FloatArray) -> FloatArray:
+    """Batched polynomial product (coefficients highest power first, last axis)."""
+    out = np.zeros(p.shape[:-1] + (p.shape[-1] + q.shape[-1] - 1,))
+    for i in range(p.shape[-1]):
+        out[..., i:i + q.shape[-1]] += p[..., i:i + 1] * q
+    return out
+
+
+def _cubic_roots(c: FloatArray) -> FloatArray:
+    """(..., 3) complex roots of ``c0 k^3 + c1 k^2 + c2 k + c3`` (batched companion matrix)."""
+    flat = c.reshape(-1, 4)
+    out = np.full((len(flat), 3), np.nan + 0j)
+    lead = np.abs(flat[:, 0]) > np.finfo(float).eps * np.abs(flat).max(axis=1)
+    if lead.any():
+        m = flat[lead, 1:] / flat[lead, :1]
+        comp = np.zeros((int(lead.sum()), 3, 3))
+        comp[:, 0, :] = -m
+        comp[:, 1, 0] = comp[:, 2, 1] = 1.0
+        out[lead] = np.linalg.eigvals(comp)
+    for i in np.flatnonzero(~lead):  # degenerate leading term: lower degree
+        r = np.roots(flat[i])
+        out[i, :len(r)] = r
+    return out.reshape(c.shape[:-1] + (3,))
+
+
+def critical_kcb(M: ArrayLike, C: ArrayLike, K: ArrayLike, n: ArrayLike,
+                 f: ArrayLike) -> FloatArray:
+    """(...) limit process stiffness ``K_c b`` [N/m] (batched over leading axes).
+
+    Parameters
+    ----------
+    M, C, K : (..., 2, 2) float
+        Structure in the plane.
+    n, f : (..., 2) float
+        Unit surface normal and force direction in the plane axes.
+
+    Returns
+    -------
+    (...) float
+        0 if unstable without cutting, ``inf`` if never unstable for ``k > 0``.
+
+    Examples
+    --------
+    >>> from flexarm.assembly.contact.chatter import cnc_model, process_vectors
+    >>> m = cnc_model([1e5, 1.3e5], 50.0, 0.01)
+    >>> n, f = process_vectors(-20.0, 30.0)  # weak axis e1 between normal and force
+    >>> bool(0 < critical_kcb(m.M, m.C, m.K, n, f) < 1e6)
+    True
+    """
+    M, C, K = (np.asarray(a, dtype=float) for a in (M, C, K))
+    nf = np.asarray(f, float)[..., :, None] * np.asarray(n, float)[..., None, :]
+    alpha = char_poly(M, C, K)
+    beta = char_poly(M, C, K + nf) - alpha
+    alpha, beta = np.broadcast_arrays(alpha, beta)
+    a = np.stack([beta, alpha], axis=-1)  # (..., 5, 2): a_i(k) highest power first
+    a4, a3, a2, a1, a0 = (a[..., i, :] for i in range(5))
+    d2 = _pmul(a3, a2) - _pmul(a4, a1)
+    d3 = _pmul(a1, d2) - _pmul(_pmul(a0, a3), a3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lin = (-a0[..., 1] / a0[..., 0])[..., None]
+    cand = np.concatenate([lin + 0j, _cubic_roots(d3)], axis=-1)
+    real = np.where((np.abs(cand.imag) <= 1e-9 * np.abs(cand)) & (cand.real > 0), cand.real,
+                    np.inf)
+    real = np.sort(real, axis=-1)
+    probe = np.where(np.isfinite(real), real * (1 + tol.chatter_limit_probe), 0.0)
+    unstable = ~is_stable(alpha[..., None, :] + probe[..., None] * beta[..., None, :])
+    unstable &= np.isfinite(real)
+    first = np.where(unstable.any(axis=-1), np.take_along_axis(
+        real, np.argmax(unstable, axis=-1)[..., None], axis=-1)[..., 0], np.inf)
+    return np.where(is_stable(alpha), first, 0.0)
+
+
+def worst_normal(M, C, K, dir_deg: float, n_angles: int = 72) -> tuple[FloatArray, FloatArray]:
+    """Smallest limit ``K_c b`` [N/m] over surface-normal angles in the plane, and that angle [deg].
+
+    The force keeps its angle ``dir_deg`` to the normal.  Batched over leading axes.
+    """
+    ang = np.arange(n_angles) * 180.0 / n_angles  # n and -n with -f are the same process
+    vecs = [process_vectors(a, dir_deg) for a in ang]
+    n = np.array([v[0] for v in vecs])
+    f = np.array([v[1] for v in vecs])
+    M, C, K = (np.asarray(x, float)[..., None, :, :] for x in (M, C, K))
+    kc = critical_kcb(M, C, K, n, f)
+    i = np.argmin(kc, axis=-1)
+    return np.take_along_axis(kc, i[..., None], axis=-1)[..., 0], ang[i]
+
+
+@dataclass(frozen=True, eq=False)
+class ChatterMap:
+    """Limit ``K_c b`` over a (q2, q3) grid.
+
+    Attributes
+    ----------
+    q2, q3 : (n2,), (n3,) float
+        Grid angles [rad].
+    kcb : (n2, n3) float
+        Limit process stiffness [N/m] (NaN where out of reach of the joint limits).
+    normal_deg : (n2, n3) float
+        Surface-normal angle used (worst case, or the given one) [deg].
+    k_weak : (n2, n3) float
+        Weakest in-plane principal stiffness [N/m].
+    dir_deg : float
+    q_fixed : (6,) float
+        The other joint angles [rad].
+    """
+
+    q2: FloatArray
+    q3: FloatArray
+    kcb: FloatArray
+    normal_deg: FloatArray
+    k_weak: FloatArray
+    dir_deg: float
+    q_fixed: FloatArray
+
+    def best(self, n: int = 3) -> list[tuple[float, float, float]]:
+        """The ``n`` poses with the largest limit: ``(q2 [deg], q3 [deg], K_c b [N/m])``."""
+        flat = np.where(np.isnan(self.kcb), -np.inf, self.kcb).ravel()
+        idx = np.argsort(-flat, kind="stable")[:n]
+        i2, i3 = np.unravel_index(idx, self.kcb.shape)
+        return [(float(np.degrees(self.q2[a])), float(np.degrees(self.q3[b])),
+                 float(self.kcb[a, b])) for a, b in zip(i2, i3, strict=True)]
+
+
+def chatter_map(arm: ArmModel, q_fixed: ArrayLike, q2: ArrayLike, q3: ArrayLike,
+                dir_deg: float, normal_deg: float | None = None,
+                axes: ArrayLike | None = None, lower: ArrayLike | None = None,
+                upper: ArrayLike | None = None) -> ChatterMap:
+    """Limit ``K_c b`` at every (q2, q3) with joints 1, 4, 5, 6 from ``q_fixed``.
+
+    ``normal_deg`` None: the worst surface orientation in the plane (:func:`worst_normal`).
+    ``axes`` (2, 3): a fixed machining plane in the base frame; None: the plane normal
+    to the tool axis at each pose.  The 2-DOF structures come from
+    :func:`~flexarm.assembly.contact.chatter.plane_model` (one modal solve per pose); the
+    stability limits are computed for all poses at once.
+    """
+    q2 = np.asarray(q2, dtype=float)
+    q3 = np.asarray(q3, dtype=float)
+    base = np.asarray(q_fixed, dtype=float)
+    G2, G3 = np.meshgrid(q2, q3, indexing="ij")
+    Q = np.broadcast_to(base, G2.shape + (6,)).copy()
+    Q[..., 1], Q[..., 2] = G2, G3
+    ok = np.ones(G2.shape, dtype=bool)
+    if lower is not None:
+        ok &= np.all(Q >= np.asarray(lower), axis=-1)
+    if upper is not None:
+        ok &= np.all(Q <= np.asarray(upper), axis=-1)
+    log.info("chatter map: %d poses", G2.size)
+    MCK = np.tile(np.eye(2), G2.shape + (3, 1, 1))
+    kw = np.full(G2.shape, np.nan)
+    for idx in zip(*np.nonzero(ok), strict=True):
+        pm = plane_model(arm, Q[idx], axes)
+        MCK[idx] = np.stack([pm.M, pm.C, pm.K])
+        kw[idx] = np.linalg.eigvalsh(pm.K)[0]
+    M, C, K = MCK[..., 0, :, :], MCK[..., 1, :, :], MCK[..., 2, :, :]
+    if normal_deg is None:
+        kc, nd = worst_normal(M, C, K, dir_deg)
+    else:
+        n, f = process_vectors(normal_deg, dir_deg)
+        kc, nd = critical_kcb(M, C, K, n, f), np.full(G2.shape, float(normal_deg))
+    kc = np.where(ok, kc, np.nan)
+    log.info("chatter map done")
+    return ChatterMap(q2, q3, kc, nd, kw, float(dir_deg), base)
+
+
+def recommendation(cm: ChatterMap) -> str:
+    """One sentence: the safest pose, its margin over the worst, and the thesis's advice."""
+    (b2, b3, bk), = cm.best(1)
+    is_fin = np.isfinite(cm.kcb)
+    finite = cm.kcb[is_fin]
+    worst = float(finite.min()) if finite.size else np.nan
+    corr = np.corrcoef(cm.k_weak[is_fin], finite)[0, 1] if finite.size > 2 else 0.0
+    limit = ("no mode-coupling limit: stable for every K_c b" if np.isinf(bk) else
+             f"limit K_c b = {bk:.3g} N/m, {bk / worst:.1f}x the worst pose's")
+    return (f"Machine at q2 = {b2:.0f} deg, q3 = {b3:.0f} deg ({limit}; worst pose "
+            f"{worst:.3g} N/m, {int((~is_fin & ~np.isnan(cm.kcb)).sum())} of {cm.kcb.size} "
+            f"poses without a limit): choose stiff configurations "
+            f"(limit vs weakest in-plane stiffness correlation {corr:+.2f}) and avoid feeding "
+            "or loading along the weak Y (joint-1 tangential) direction.")

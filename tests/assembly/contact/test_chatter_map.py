@@ -1,0 +1,53 @@
+import numpy as np
+
+from flexarm.assembly.contact.chatter import analyse, cnc_model, plane_model, process_vectors
+from flexarm.assembly.contact.chatter_map import (
+    chatter_map,
+    critical_kcb,
+    recommendation,
+    worst_normal,
+)
+
+
+def test_critical_kcb_matches_a_scan(arm, robot):
+    pm = plane_model(arm, robot.pose("P1"))
+    for nd in (0.0, 160.0):
+        n, f = process_vectors(nd, 30.0)
+        lim = float(critical_kcb(pm.M, pm.C, pm.K, n, f))
+        assert 1e4 < lim < 1e7
+        assert analyse(pm, lim * 0.999, 30.0, nd).is_stable
+        assert not analyse(pm, lim * 1.001, 30.0, nd).is_stable
+
+
+def test_critical_kcb_batched_equals_single():
+    ms = [cnc_model([1e5, k], 50.0, 0.01) for k in (1.2e5, 1.5e5, 3e5)]
+    n, f = process_vectors(-20.0, 30.0)  # weak axis e1 between normal and force
+    M = np.array([m.M for m in ms])
+    C = np.array([m.C for m in ms])
+    K = np.array([m.K for m in ms])
+    batch = critical_kcb(M, C, K, n, f)
+    single = [float(critical_kcb(m.M, m.C, m.K, n, f)) for m in ms]
+    assert np.allclose(batch, single)
+    assert batch[0] < batch[1]  # closer stiffnesses couple more easily
+
+
+def test_worst_normal_is_no_larger_than_any_given(arm, robot):
+    pm = plane_model(arm, robot.pose("P1"))
+    kw, ang = worst_normal(pm.M, pm.C, pm.K, 30.0)
+    for nd in (0.0, 45.0, 90.0, 160.0):
+        n, f = process_vectors(nd, 30.0)
+        assert kw <= critical_kcb(pm.M, pm.C, pm.K, n, f) * (1 + 1e-9)
+
+
+def test_map_and_recommendation(arm, robot):
+    q2 = np.radians(np.linspace(-40, 100, 6))
+    q3 = np.radians(np.linspace(-100, 60, 6))
+    cm = chatter_map(arm, robot.pose("P1"), q2, q3, 30.0, lower=robot.lower, upper=robot.upper)
+    assert cm.kcb.shape == (6, 6)
+    fin = np.isfinite(cm.kcb)
+    assert fin.sum() > 10 and np.all(cm.kcb[fin] > 0)
+    assert cm.kcb[fin].max() > 2 * cm.kcb[fin].min()  # the pose matters
+    best = cm.best(1)[0]
+    assert best[2] >= np.nanmax(np.where(fin, cm.kcb, -np.inf))
+    text = recommendation(cm)
+    assert "weak Y" in text and "stiff configurations" in text
