@@ -788,7 +788,7 @@ def _run_diagnose(args) -> int:
         raise ValueError("diagnose starts from a linear model: the robot file already has "
                          "a [nonlinear] table")
     data = read_measurements(args.data)
-    dg = diagnose(arm, data, args.noise * 1e-6)
+    dg = diagnose(arm, data, args.noise * 1e-6, poses=robot.poses)
     sv = dg.identifiability["singular_values"]
     _print(f"identifiability: condition {dg.identifiability['condition']:.3g}, singular "
            f"values {', '.join(f'{v:.3g}' for v in sv)}")
@@ -814,6 +814,65 @@ def _run_diagnose(args) -> int:
     if args.apply:
         new, nonlinear = robot_with_effects(robot, arm, dg.final_effects)
         _print(f"wrote {write_robot(args.output, new, nonlinear)}")
+    return 0
+
+
+# --- flexible arm (issue 5): build | compare-models ------------------------------------
+def _robot_arg(args):
+    from .assembly.formats import read
+    from .meshes.demo_arm import load_demo_robot
+
+    return load_demo_robot() if args.robot is None else read(args.robot)
+
+
+def _add_build(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML (default: built-in demo arm)")
+    p.add_argument("--method", default="cb", choices=["cb", "guyan"], help="reduction")
+    p.add_argument("--modes", type=int, default=None, help="CB modes per link (robot default)")
+    p.add_argument("--coupling", default="rbe2", choices=["rbe2", "rbe3"])
+    p.add_argument("--mesh-size", type=float, default=None, help="tet edge [m] (robot default)")
+
+
+@command("build", "mesh and reduce every link of a robot (cached superelements)", _add_build)
+def _run_build(args) -> int:
+    from .assembly.build import BuildOptions, build_robot
+
+    robot = _robot_arg(args)
+    opts = BuildOptions(args.method, args.modes, args.coupling, args.mesh_size)
+    builds = build_robot(robot, opts, progress=lambda s: print(s, file=sys.stderr))  # noqa: T201
+    _print(f"{'link':<14} {'tets':>7} {'DOF':>7} {'reduced':>7} {'time_s':>7}  "
+           f"fixed-interface f [Hz]")
+    for lb in builds:
+        f = " ".join(f"{v:.0f}" for v in lb.freq_hz[:5]) or "-"
+        src = "cache" if lb.is_cached else f"{lb.seconds:7.1f}"
+        kind = "rigid" if lb.superelement is None else lb.n_reduced
+        _print(f"{lb.name:<14} {lb.n_tets:>7} {lb.n_fe_dofs:>7} {kind:>7} {src:>7}  {f}")
+    return 0
+
+
+def _add_compare_models(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML (default: built-in demo arm)")
+    p.add_argument("--poses", default="P1,P2,P3", help="comma-separated pose names")
+    p.add_argument("--modes", type=int, default=None, help="CB modes per link (robot default)")
+    p.add_argument("--coupling", default="rbe2", choices=["rbe2", "rbe3"])
+    p.add_argument("--mesh-size", type=float, default=None, help="tet edge [m] (robot default)")
+    p.add_argument("--no-full-fe", action="store_true", help="skip the full-FE reference")
+    p.add_argument("-o", "--output", default="flexarm-compare", help="folder for CSV and PNG")
+
+
+@command("compare-models", "E-model vs Guyan vs CB vs CB+wrist vs full FE at poses (CSV, PNG)",
+         _add_compare_models)
+def _run_compare_models(args) -> int:
+    from .assembly.compare import compare_models
+
+    robot = _robot_arg(args)
+    rep = compare_models(robot, [s for s in args.poses.split(",") if s.strip()], args.modes,
+                         args.coupling, args.mesh_size, full_fe=not args.no_full_fe,
+                         out_dir=args.output,
+                         progress=lambda s: print(s, file=sys.stderr))  # noqa: T201
+    _print(rep.text())
+    for f in rep.files:
+        _print(f"wrote {f}")
     return 0
 
 

@@ -1,0 +1,140 @@
+"""Predictions vs measurements: error tables like thesis Table 5, chi^2_red, plots.
+
+Error per series (thesis eqs. 4.1-4.2): the absolute error is the mean over the
+loaded readings of ``|d_meas - d_pred|`` along the load direction; the relative error
+divides by the mean ``|d_meas|``.  The table groups series by pose and load direction.
+chi^2_red uses the GLS noise model of :mod:`flexarm.validation.fit` with the *stated*
+noise (no fitted parameters: dof = number of observations).
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..assembly.system import ArmModel
+from ..fe.tolerances import tol
+from .fit import Problem, chi2_band
+from .measurements import StaticData
+
+__all__ = ["Comparison", "compare_static", "write_report"]
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Result of :func:`compare_static`.
+
+    Attributes
+    ----------
+    predicted : (n, 3) float
+        Predicted relative deflections [m].
+    table : list of dict
+        Per series: pose, dir, mean_abs_mm, max_abs_mm, relative, max_meas_mm.
+    chi2_red : float
+    band : (2,) float
+    rms : float
+        RMS of ``d_meas - d_pred`` over loaded readings [m].
+    """
+
+    predicted: np.ndarray
+    table: list
+    chi2_red: float
+    band: tuple
+    rms: float
+    problem: Problem
+
+
+def compare_static(arm: ArmModel, data: StaticData, effects=(),
+                   sigma: float = tol.tracker_sigma) -> Comparison:
+    """Compare ``arm`` (plus ``effects``) with static ``data``.
+
+    Examples
+    --------
+    >>> from flexarm.assembly.examples import two_link_arm
+    >>> import numpy as np
+    >>> d = StaticData(series=["a"] * 3, steps=[0, 1, 2], q=np.zeros((3, 6)),
+    ...                force=np.zeros((3, 3)), disp=np.zeros((3, 3)))
+    """
+    pb = Problem(arm, data, sigma)
+    pred = pb.predict(list(effects))
+    r = pb.whiten(data.disp - pred)
+    chi2_red = float(r @ r / max(pb.n_obs, 1))
+    rows = []
+    for g in pb.groups:
+        loaded = g[1:]
+        f = data.force[loaded]
+        k = int(np.argmax(np.abs(f).sum(axis=0))) if loaded.size else 0
+        sgn = np.sign(f[:, k].sum()) or 1.0
+        err = np.abs(data.disp[loaded, k] - pred[loaded, k])
+        meas = np.abs(data.disp[loaded, k])
+        label = str(data.series[g[0]])
+        rows.append({"series": label, "pose": label.split("_")[0],
+                     "dir": ("-" if sgn < 0 else "+") + "xyz"[k],
+                     "mean_abs_mm": float(err.mean() * 1e3) if err.size else 0.0,
+                     "max_abs_mm": float(err.max() * 1e3) if err.size else 0.0,
+                     "relative": float(err.mean() / max(meas.mean(), 1e-12)) if err.size
+                     else 0.0, "max_meas_mm": float(meas.max() * 1e3) if err.size else 0.0})
+    res = (data.disp - pred)[~pb.is_ref]
+    return Comparison(pred, rows, chi2_red, chi2_band(max(pb.n_obs, 1)),
+                      float(np.sqrt(np.mean(res**2))) if res.size else 0.0, pb)
+
+
+def write_report(folder, cmp: Comparison) -> list[Path]:
+    """Write ``errors.csv`` and the plots (matplotlib, Agg) into ``folder``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    out = [folder / "errors.csv"]
+    with open(out[0], "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(cmp.table[0]))
+        w.writeheader()
+        w.writerows(cmp.table)
+    pb, data = cmp.problem, cmp.problem.data
+    fmag = np.linalg.norm(data.force, axis=1)
+    n = len(pb.groups)
+    cols = min(n, 6)
+    fig, axes = plt.subplots(-(-n // cols), cols, figsize=(3 * cols, 2.4 * -(-n // cols)),
+                             squeeze=False)
+    for ax, g in zip(axes.ravel(), pb.groups, strict=False):
+        for k, c in enumerate("xyz"):
+            ax.plot(fmag[g], data.disp[g, k] * 1e3, "o", ms=3, color=f"C{k}", label=f"{c} meas")
+            ax.plot(fmag[g], cmp.predicted[g, k] * 1e3, "-", color=f"C{k}")
+        ax.set_title(str(data.series[g[0]]), fontsize=8)
+        ax.tick_params(labelsize=7)
+    axes[0, 0].set_ylabel("deflection [mm]")
+    axes[0, 0].legend(fontsize=6)
+    fig.tight_layout()
+    out.append(folder / "deflection_vs_force.png")
+    fig.savefig(out[-1], dpi=90)
+    plt.close(fig)
+    res = (data.disp - cmp.predicted) * 1e6
+    nj = pb.tau.shape[1]
+    fig, axes = plt.subplots(1, nj, figsize=(2.6 * nj, 2.6), squeeze=False)
+    for j, ax in enumerate(axes[0]):
+        for k in range(3):
+            ax.plot(pb.tau[:, j], res[:, k], ".", ms=3, color=f"C{k}")
+        ax.set_xlabel(f"joint {j + 1} torque [N m]", fontsize=7)
+        ax.tick_params(labelsize=7)
+    axes[0, 0].set_ylabel("residual [um]")
+    fig.tight_layout()
+    out.append(folder / "residual_vs_torque.png")
+    fig.savefig(out[-1], dpi=90)
+    plt.close(fig)
+    poses = sorted({r["pose"] for r in cmp.table})
+    fig, ax = plt.subplots(figsize=(5, 3))
+    pose_of = np.array([str(s).split("_")[0] for s in data.series])
+    ax.boxplot([np.abs(res[(pose_of == p) & ~pb.is_ref]).ravel() for p in poses])
+    ax.set_xticks(np.arange(1, len(poses) + 1), poses)
+    ax.set_ylabel("|residual| [um]")
+    fig.tight_layout()
+    out.append(folder / "residual_by_pose.png")
+    fig.savefig(out[-1], dpi=90)
+    plt.close(fig)
+    return out

@@ -1,0 +1,275 @@
+"""Diagnosis: fit the baseline, find what is missing, name the effect, refit, repeat.
+
+Loop (DESIGN §8): (1) fit the current model (baseline = per-joint torsion compliance
+scales, GLS with the shared-reference noise model); (2) say whether something is
+missing (chi^2_red against its band, leave-one-pose-out); (3) screen every candidate of
+:mod:`~flexarm.validation.candidates` (untestable / aliased / score-test gain and
+ΔBIC); (4) refit the best one's physical model with the baseline; (5) accept it only if
+ΔBIC > ``tol.delta_bic_accept``, the held-out RMS falls, its amplitudes are plausible
+and their intervals exclude zero; (6) add it and repeat.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..assembly.system import ArmModel
+from ..fe.tolerances import tol
+from .candidates import Screen, library, load_proposal, screen, status_of
+from .explain import explain, static_notes
+from .fit import Problem, baseline_effects, chi2_band, fit_model, heldout_rms
+from .measurements import StaticData
+
+__all__ = ["CandidateReport", "Step", "Diagnosis", "diagnose"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class CandidateReport:
+    """Outcome for one candidate: status is accepted|rejected|aliased|untestable."""
+
+    name: str
+    label: str
+    status: str
+    dbic: float
+    unique: float
+    norm: float
+    detail: str = ""
+
+
+@dataclass(frozen=True)
+class Step:
+    """One model version and the candidate ranking against it."""
+
+    label: str
+    effects: tuple
+    chi2_red: float
+    band: tuple
+    dof: float
+    rms_fit: float
+    rms_heldout: float
+    candidates: tuple = ()
+    winner: dict | None = None
+    accepted: bool = False
+    explanation: str = ""
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """All steps, the identifiability report and the final accepted effects."""
+
+    steps: tuple
+    identifiability: dict
+    accepted: tuple
+    final_effects: tuple
+    notes: tuple = field(default_factory=tuple)
+
+    @property
+    def final(self) -> Step:
+        return self.steps[-1]
+
+
+def _rms(problem: Problem, effects) -> float:
+    r = (problem.y - problem.predict(effects))[~problem.is_ref]
+    return float(np.sqrt(np.mean(r**2))) if r.size else float("nan")
+
+
+def identifiability(problem: Problem, fit) -> dict:
+    """SVD of the whitened baseline sensitivities, correlations, torque sign changes."""
+    X = fit.sensitivity
+    sv = np.linalg.svd(X, compute_uv=False) if X.size else np.zeros(0)
+    sd = fit.stderr
+    corr = fit.cov / np.outer(np.maximum(sd, 1e-300), np.maximum(sd, 1e-300))
+    flips = []
+    for j in range(problem.arm.chain.n_joints):
+        series = [str(problem.data.series[g[0]]) for g in problem.groups
+                  if np.any(np.diff(np.sign(problem.tau[g, j])) != 0)]
+        flips.append(series)
+    return {"singular_values": sv.tolist(), "condition": float(sv.max() / max(sv.min(), 1e-300))
+            if sv.size else float("nan"),
+            "correlation": corr.tolist(), "stderr": sd.tolist(),
+            "sign_changes": {f"joint_{j + 1}": s for j, s in enumerate(flips)}}
+
+
+def leave_one_pose_out(problem: Problem, effects, free, scales, prior) -> dict:
+    """chi^2_red on each pose when the model is fitted on the other poses."""
+    out = {}
+    poses = problem.pose_index
+    if problem.uq.shape[0] < 3:
+        return out
+    for p in range(problem.uq.shape[0]):
+        test = poses == p
+        fr = fit_model(problem, effects, free, scales, prior, rows=~test, iterations=2)
+        r = problem.whiten(problem.y - problem.predict(fr.effects), test)
+        label = str(problem.data.series[np.flatnonzero(test)[0]]).split("_")[0]
+        out[label] = float(r @ r / max(r.size, 1))
+    return out
+
+
+def _plausible(kind: str, theta: np.ndarray) -> bool:
+    if kind == "wrist":
+        return True
+    if kind in ("backlash", "hysteresis"):
+        return bool(np.all(theta > 0) and np.all(theta < tol.max_backlash))
+    return bool(np.all(theta > 0))
+
+
+def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
+             noise_model: str = "shared", max_effects: int = 3,
+             heldout: bool = True, poses: dict | None = None) -> Diagnosis:
+    """Diagnose which effects the model ``arm`` misses in the static ``data``.
+
+    ``poses`` (name -> q [rad], e.g. ``robot.poses``) widen the search for load proposals.
+    Returns a :class:`Diagnosis`; ``accepted`` holds the accepted effects with fitted
+    parameters, ``final_effects`` the full fitted model (baseline scales included).
+    """
+    log.info("diagnosis of %d readings", len(data.series))
+    problem = Problem(arm, data, sigma, noise_model)
+    effects, free = baseline_effects(arm)
+    scales = np.ones(len(free))
+    prior = {f: (1.0, tol.baseline_prior_sd) for f in free}
+    cands = library(problem)
+    steps, accepted, ident = [], [], {}
+    label = "baseline"
+    for it in range(max_effects + 1):
+        fr = fit_model(problem, effects, free, scales, prior)
+        band = chi2_band(fr.dof)
+        cur_ho = heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan
+        if it == 0:
+            ident = identifiability(problem, fr)
+            ident["leave_one_pose_out"] = leave_one_pose_out(problem, effects, free, scales,
+                                                              prior)
+        base_step = dict(label=label, effects=fr.effects, chi2_red=fr.chi2_red, band=band,
+                         dof=fr.dof, rms_fit=_rms(problem, fr.effects), rms_heldout=cur_ho)
+        done = {e.kind + (f"_j{e.joint + 1}" if e.joint is not None else "") for e in accepted}
+        screens = [screen(problem, fr, c) for c in cands if c.name not in done]
+        testable = sorted((s for s in screens if status_of(s) is None), key=lambda s: -s.dbic)
+        reports, winner, ok, text = [], None, False, ""
+        if testable:
+            best: Screen = testable[0]
+            c = best.candidate
+            fr2, free2, scales2, keep = _refit(problem, fr, free, scales, prior, best)
+            theta = fr2.theta[len(free):]
+            se = fr2.stderr[len(free):]
+            dbic = fr.chi2 - fr2.chi2 - c.n_params * np.log(fr.n_obs)
+            new_ho = heldout_rms(problem, fr2.effects, free2, scales2, prior) if heldout else 0.0
+            excl = np.abs(theta) > tol.interval_z * se
+            checks = {"dbic": dbic > tol.delta_bic_accept,
+                      "heldout": bool(new_ho < tol.heldout_gain * cur_ho) if heldout else True,
+                      "plausible": _plausible(c.kind, theta),
+                      "interval": bool(excl.any() if c.kind == "wrist" else excl.all())}
+            ok = all(checks.values())
+            winner = {"name": c.name, "label": c.label, "dbic": float(dbic),
+                      "params": {a: (float(t), float(s)) for a, t, s in
+                                 zip(keep, theta, se, strict=True)},
+                      "grid": None if c.grid_name is None else
+                      (c.grid_name, fr2.effects[-1].get(c.grid_name)),
+                      "checks": checks, "chi2_red_after": fr2.chi2_red,
+                      "rms_heldout_after": new_ho, "rms_fit_after": _rms(problem, fr2.effects)}
+            text = explain(problem, c, fr2.effects[-1], theta, se)
+        for s in screens:
+            st = status_of(s)
+            c = s.candidate
+            detail = ""
+            if st == "untestable" and c.joint is not None and not np.any(
+                    np.abs(problem.J[:, :, c.joint]) > 1e-9):
+                detail = (f"joint {c.joint + 1} turns the TCP about its own axis: invisible in "
+                          f"TCP translations; measure TCP rotations (rx, ry, rz)")
+            elif st == "untestable":
+                detail = ("add these loads: " + load_proposal(problem, c.joint, c.kind,
+                                                              extra_poses=poses)
+                          if c.kind in ("backlash", "hysteresis") else
+                          "the data barely load it: add poses/loads that do")
+            elif st == "aliased":
+                detail = _mimic(problem, fr, s)
+            elif winner and c.name == winner["name"]:
+                st = "accepted" if ok else "rejected"
+                detail = "" if ok else "failed: " + ", ".join(k for k, v in
+                                                              winner["checks"].items() if not v)
+            else:
+                st, detail = "rejected", ""
+                if winner and _corr(s.columns, testable[0].columns) > tol.alias_correlation:
+                    st, detail = "aliased", f"with {winner['label']} (same pattern on this data)"
+            if c.kind == "base":
+                detail = (detail + "; " if detail else "") + _base_note(screens)
+            reports.append(CandidateReport(c.name, c.label, st, s.dbic, s.unique, s.norm, detail))
+        order = {"accepted": 0, "rejected": 1, "aliased": 2, "untestable": 3}
+        reports.sort(key=lambda r: (order[r.status], -r.dbic))
+        steps.append(Step(**base_step, candidates=tuple(reports), winner=winner,
+                          accepted=ok, explanation=text))
+        if not ok:
+            break
+        effects, free, scales = list(fr2.effects), free2, scales2
+        accepted.append(fr2.effects[-1])
+        label = label + " + " + testable[0].candidate.label
+    if steps[-1].accepted:  # the loop ran out of iterations after an acceptance
+        fr = fit_model(problem, effects, free, scales, prior)
+        steps.append(Step(label, fr.effects, fr.chi2_red, chi2_band(fr.dof), fr.dof,
+                          _rms(problem, fr.effects),
+                          heldout_rms(problem, effects, free, scales, prior) if heldout
+                          else np.nan))
+    log.info("diagnosis done: %d effects accepted", len(accepted))
+    return Diagnosis(tuple(steps), ident, tuple(accepted), tuple(steps[-1].effects),
+                     static_notes(arm))
+
+
+def _refit(problem: Problem, fr, free, scales, prior, best: Screen):
+    """Physical refit of a candidate with the current model: amplitudes the data can see
+    (whitened norm at typical size >= ``tol.untestable_norm``) are free, the others stay
+    0; the shape parameter (if any) is optimised around its best grid value."""
+    from scipy.optimize import minimize_scalar
+
+    from .candidates import signature
+
+    c = best.candidate
+    S = problem.whiten(signature(problem, fr.effects, c, best.grid_value)) * np.asarray(c.sizes)
+    keep = [a for a, n in zip(c.amplitudes, np.linalg.norm(S, axis=0), strict=True)
+            if n >= tol.untestable_norm] or list(c.amplitudes[:1])
+    i = len(fr.effects)
+    free2 = list(free) + [(i, a) for a in keep]
+    scales2 = np.r_[scales, [s for a, s in zip(c.amplitudes, c.sizes, strict=True) if a in keep]]
+
+    def run(g, iterations=3):
+        eff = list(fr.effects) + [c.effect(g)]
+        return fit_model(problem, eff, free2, scales2, prior, iterations=iterations)
+
+    g = best.grid_value
+    if c.grid_name is not None:
+        lo, hi = np.log(g / 10), np.log(g * 10)
+        opt = minimize_scalar(lambda x: run(np.exp(x), 2).chi2, bounds=(lo, hi),
+                              method="bounded", options={"xatol": 1e-3})
+        g = float(np.exp(opt.x))
+    return run(g), free2, scales2, keep
+
+
+def _corr(A: np.ndarray, B: np.ndarray) -> float:
+    a, b = A.reshape(len(A), -1)[:, 0], B.reshape(len(B), -1)[:, 0]
+    den = np.linalg.norm(a) * np.linalg.norm(b)
+    return float(abs(a @ b) / den) if den > 0 else 0.0
+
+
+def _mimic(problem: Problem, fit, s: Screen) -> str:
+    """Name the current-model parameter whose sensitivity best mimics the signature."""
+    X = fit.sensitivity
+    from .candidates import signature
+
+    sig = problem.whiten(signature(problem, fit.effects, s.candidate, s.grid_value))[:, 0]
+    c = np.abs(X.T @ sig) / np.maximum(np.linalg.norm(X, axis=0) * np.linalg.norm(sig), 1e-300)
+    k = int(np.argmax(c)) if c.size else 0
+    i, name = fit.free[k]
+    e = fit.effects[i]
+    what = "torsion compliance" if e.kind == "stiffness" else f"{e.kind} {name}"
+    return f"with {e.label.replace(' stiffness', '')} {what} (corr {c[k]:.2f})"
+
+
+def _base_note(screens) -> str:
+    by = {s.candidate.name: s for s in screens}
+    note = "base twist about z is the same motion as joint-1 torsion (absorbed by it)"
+    if "base" in by and "tilt_j1" in by:
+        note += (f"; base tilt vs joint-1 bearing tilt: corr "
+                 f"{_corr(by['base'].columns, by['tilt_j1'].columns):.2f} after the baseline")
+    return note

@@ -1,0 +1,261 @@
+"""Generalised least squares on static series with a shared reference reading.
+
+Noise model (DESIGN §8).  A reading ``k`` of a series measures
+``d_k = u_k - u_ref + e_k - e_ref`` with independent tracker noise ``e ~ N(0, sigma^2)``
+per coordinate, so the rows of one series share ``-e_ref``: their covariance is
+``sigma^2 (I + 1 1^T)``.  GLS with that covariance equals ordinary weighted least
+squares with a free offset per series and coordinate, where the reference row enters as
+an observation ``d_ref = 0``.  :meth:`Problem.whiten` implements this: it subtracts
+the (1/sigma^2-weighted) series mean, reference row included, and divides by sigma.
+Each series of ``m`` rows then carries ``3 (m - 1)`` degrees of freedom.  The
+``"independent"`` model (rows treated as independent, no offset) exists only to show
+why it invents effects (the shared-reference trap).
+
+Model parameters are the named parameters of :class:`~flexarm.validation.effects.Effect`
+objects; the fit is Gauss-Newton with finite-difference sensitivities (exact in one step
+for rigid links, where every compliance enters linearly) and a weak Gaussian prior on
+the baseline compliance scale factors so that directions the data cannot see stay at
+their nominal values.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..assembly.analyses import tcp_compliance
+from ..assembly.kinematics import jacobian
+from ..assembly.statics import joint_moments, series_starts
+from ..assembly.system import ArmModel
+from ..fe.tolerances import tol
+from .effects import Effect, apply_effects
+from .measurements import StaticData
+
+__all__ = ["Problem", "FitResult", "fit_model", "baseline_effects", "chi2_band"]
+
+Param = tuple[int, str]  # (effect index, parameter name)
+
+
+class Problem:
+    """One static data set and the arm model it is compared with (caches the kinematics).
+
+    Parameters
+    ----------
+    arm : ArmModel
+    data : StaticData
+    sigma : float
+        Tracker standard uncertainty [m] used when the file has no ``sigma`` column.
+    noise_model : {"shared", "independent"}
+    """
+
+    def __init__(self, arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
+                 noise_model: str = "shared"):
+        if noise_model not in ("shared", "independent"):
+            raise ValueError(f"noise_model must be 'shared' or 'independent', got {noise_model}")
+        self.arm, self.data, self.noise_model = arm, data, noise_model
+        n = len(data.series)
+        self.ref = series_starts(data.series)
+        self.is_ref = self.ref == np.arange(n)
+        self.sigma = np.full(n, sigma) if data.sigma is None else np.asarray(data.sigma, float)
+        self.uq, inv = np.unique(data.q, axis=0, return_inverse=True)
+        self.pose_index = inv.ravel()
+        self.dw = np.zeros((n, 6))
+        self.dw[:, :3] = data.force
+        if data.moment is not None:
+            self.dw[:, 3:] = data.moment
+        self.dw -= self.dw[self.ref]
+        self.tau = joint_moments(arm, data.q, data.force, data.moment)[:, :, 0]
+        self.J = jacobian(arm.chain, data.q)[:, :3, :]
+        self.groups = [np.flatnonzero(self.ref == s) for s in np.unique(self.ref)]
+        self.series_id = np.searchsorted(np.unique(self.ref), self.ref)
+        self.y = np.asarray(data.disp, float)
+
+    @property
+    def n_obs(self) -> int:
+        """Independent observations: 3 per non-reference reading."""
+        return 3 * int((~self.is_ref).sum())
+
+    # ----- model predictions
+    def law_signature(self, joint: int, shape) -> np.ndarray:
+        """(n, 3) TCP motion [m] of a unit-amplitude law ``shape(tau history)`` at ``joint``."""
+        extra = np.zeros(len(self.ref))
+        for g in self.groups:
+            extra[g] = shape(self.tau[g, joint])
+        extra = extra - extra[self.ref]
+        return self.J[:, :, joint] * extra[:, None]
+
+    def predict(self, effects) -> np.ndarray:
+        """(n, 3) relative TCP deflections [m] of the arm with ``effects``."""
+        arm, laws = apply_effects(self.arm, effects)
+        C = tcp_compliance(arm, self.uq)[self.pose_index, :3, :]
+        u = np.einsum("nij,nj->ni", C, self.dw)
+        for j, js in laws.items():
+            for law in js:
+                u += self.law_signature(j, law.deflection)
+        return u
+
+    # ----- noise model
+    def whiten(self, A: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
+        """Whitened residual-like array: (n, 3[, p]) -> (m[, p]), GLS metric of the noise model.
+
+        ``rows`` (bool (n,)) keeps whole series only.
+        """
+        A = np.asarray(A, dtype=float)
+        w = 1.0 / self.sigma**2
+        wb = w.reshape((-1,) + (1,) * (A.ndim - 1))
+        if self.noise_model == "shared":
+            num = np.zeros((len(self.groups),) + A.shape[1:])
+            np.add.at(num, self.series_id, wb * A)
+            den = np.bincount(self.series_id, weights=w)
+            mean = num / den.reshape((-1,) + (1,) * (A.ndim - 1))
+            Z = (A - mean[self.series_id]) / self.sigma.reshape(wb.shape)
+            keep = np.ones(len(A), bool)
+        else:
+            Z = A / self.sigma.reshape(wb.shape)
+            keep = ~self.is_ref
+        if rows is not None:
+            keep = keep & rows
+        Z = Z[keep]
+        return Z.reshape((-1,) + A.shape[2:])
+
+    def n_obs_rows(self, rows: np.ndarray | None = None) -> int:
+        keep = ~self.is_ref if rows is None else (~self.is_ref & rows)
+        return 3 * int(keep.sum())
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """A fitted model: effects with fitted values, covariance and goodness of fit.
+
+    ``chi2`` is the unscaled GLS chi-square with the stated noise; ``chi2_red`` divides by
+    ``dof = n_obs - n_identified`` where ``n_identified`` is the trace of the hat matrix.
+    """
+
+    effects: tuple
+    free: tuple
+    theta: np.ndarray
+    cov: np.ndarray
+    chi2: float
+    n_obs: int
+    n_identified: float
+    residual: np.ndarray
+    sensitivity: np.ndarray
+
+    @property
+    def dof(self) -> float:
+        return max(self.n_obs - self.n_identified, 1.0)
+
+    @property
+    def chi2_red(self) -> float:
+        return self.chi2 / self.dof
+
+    @property
+    def stderr(self) -> np.ndarray:
+        return np.sqrt(np.clip(np.diag(self.cov), 0, None))
+
+    def bic(self, n_extra: int = 0) -> float:
+        """chi^2 + k ln(n_obs) with ``k`` free parameters (plus ``n_extra`` grid parameters)."""
+        return self.chi2 + (len(self.free) + n_extra) * np.log(self.n_obs)
+
+
+def baseline_effects(arm: ArmModel) -> tuple[list[Effect], list[Param]]:
+    """Torsion compliance scale per joint (nominal 1): the linear baseline."""
+    eff = [Effect("stiffness", j, (("scale", 1.0),)) for j in range(arm.chain.n_joints)]
+    return eff, [(j, "scale") for j in range(len(eff))]
+
+
+def _set(effects, free, theta):
+    out = list(effects)
+    for (i, name), v in zip(free, theta, strict=True):
+        out[i] = out[i].with_params(**{name: float(v)})
+    return out
+
+
+def fit_model(problem: Problem, effects, free, scales, prior=None, rows=None,
+              iterations: int = 3) -> FitResult:
+    """Gauss-Newton GLS fit of the ``free`` parameters of ``effects``.
+
+    Parameters
+    ----------
+    problem : Problem
+    effects : sequence of Effect
+    free : sequence of (effect index, parameter name)
+    scales : (p,) float
+        Typical size of each free parameter (finite-difference step and conditioning).
+    prior : mapping (effect index, name) -> (mean, sd), optional
+        Gaussian prior (used for the baseline scale factors).
+    rows : (n,) bool, optional
+        Fit on these series only (held-out validation).
+    """
+    effects, free = list(effects), list(free)
+    scales = np.asarray(scales, dtype=float)
+    theta = np.array([effects[i].get(name) for i, name in free])
+    prior = prior or {}
+    mu = np.array([prior.get(f, (0.0, np.inf))[0] for f in free])
+    sd = np.array([prior.get(f, (0.0, np.inf))[1] for f in free])
+    P = np.where(np.isfinite(sd), 1 / np.where(np.isfinite(sd), sd, 1) ** 2, 0.0)
+    for _ in range(iterations):
+        f0 = problem.predict(_set(effects, free, theta))
+        cols = []
+        for k in range(len(free)):
+            h = tol.fd_step * scales[k] if abs(theta[k]) < scales[k] else tol.fd_step * abs(theta[k])
+            t = theta.copy()
+            t[k] += h
+            cols.append((problem.predict(_set(effects, free, t)) - f0) / h)
+        S = np.stack(cols, axis=-1) if cols else np.zeros(f0.shape + (0,))
+        X = problem.whiten(S, rows)
+        r = problem.whiten(problem.y - f0, rows)
+        # normal equations in scaled variables, with the prior
+        D = scales
+        A = (X * D).T @ (X * D) + np.diag(P * D**2)
+        b = (X * D).T @ r - P * D * (theta - mu)
+        step = D * np.linalg.lstsq(A, b, rcond=1e-12)[0]
+        theta = theta + step
+        if np.all(np.abs(step) <= 1e-6 * np.maximum(np.abs(theta), scales)):
+            break
+    final = _set(effects, free, theta)
+    res = problem.whiten(problem.y - problem.predict(final), rows)
+    A = (X * D).T @ (X * D) + np.diag(P * D**2)
+    Ainv = np.linalg.pinv(A, rcond=1e-12)
+    cov = D[:, None] * Ainv * D[None, :]
+    hat = float(np.trace(Ainv @ ((X * D).T @ (X * D))))
+    return FitResult(tuple(final), tuple(free), theta, cov, float(res @ res),
+                     problem.n_obs_rows(rows), hat, res, X)
+
+
+def chi2_band(dof: float, coverage: float = tol.chi2_band_coverage) -> tuple[float, float]:
+    """Central ``coverage`` interval of chi^2_red for ``dof`` degrees of freedom."""
+    from scipy.stats import chi2
+
+    a = (1 - coverage) / 2
+    return float(chi2.ppf(a, dof) / dof), float(chi2.ppf(1 - a, dof) / dof)
+
+
+def heldout_rms(problem: Problem, effects, free, scales, prior, folds: int = tol.cv_folds
+                ) -> float:
+    """RMS [m] of the raw relative residual on held-out series (round-robin folds)."""
+    sid = problem.series_id
+    n_s = sid.max() + 1
+    if n_s < folds:
+        return float("nan")
+    fold_of = np.random.default_rng(0).permutation(n_s) % folds  # fixed, mixes directions
+    sq, cnt = 0.0, 0
+    for k in range(folds):
+        test = fold_of[sid] == k
+        fr = fit_model(problem, effects, free, scales, prior, rows=~test, iterations=2)
+        r = (problem.y - problem.predict(fr.effects))[test & ~problem.is_ref]
+        sq += float((r**2).sum())
+        cnt += r.size
+    return float(np.sqrt(sq / max(cnt, 1)))
+
+
+def with_effect(effects, free, scales, prior, effect: Effect, names, sizes):
+    """Append ``effect`` with free parameters ``names`` (typical ``sizes``)."""
+    effects = list(effects) + [effect]
+    i = len(effects) - 1
+    return (effects, list(free) + [(i, n) for n in names],
+            np.r_[scales, sizes], dict(prior))
+
+
+__all__ += ["heldout_rms", "with_effect"]

@@ -1,0 +1,38 @@
+"""Shared fixtures for the diagnosis tests: the demo E-model and a lab helper."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from flexarm.validation.effects import parse_effect
+from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab
+
+#: Truth stiffness errors of the lab arm vs the model given to diagnose (±30 %).
+PERTURB = (1.3, 0.7, 1.3, 0.7, 1.3, 0.7)
+
+@pytest.fixture(scope="session")
+def demo():
+    from flexarm.assembly.emodel import emodel
+    from flexarm.meshes.demo_arm import load_demo_robot
+
+    robot = load_demo_robot()
+    return robot, emodel(robot, method="surface")
+
+@pytest.fixture(scope="session")
+def lab(demo):
+    robot, arm = demo
+
+    def make(effects=(), poses=("P1", "P2", "P3"), dirs="x,y,z,-x,-y,-z", cycles=False,
+             seed=1, noise=15e-6, perturb=PERTURB):
+        plan = LabPlan({p: robot.pose(p) for p in poses}, parse_loads("0:800:100"),
+                       parse_dirs(dirs), cycles)
+        pert = [parse_effect(f"stiffness:j{j + 1}={s}") for j, s in enumerate(perturb)]
+        return virtual_lab(arm, plan, pert + [parse_effect(e) for e in effects], noise, seed)
+
+    return make
+
+def covers(value: float, sd: float, truth: float, z: float = 2.58) -> bool:
+    return abs(value - truth) <= z * sd + 1e-15
+
+np.seterr(all="ignore")
