@@ -1,0 +1,31 @@
+"""The demo's steps produce their files and the figures the README quotes."""
+
+from __future__ import annotations
+
+import pytest
+
+from flexarm.demo import DemoReport, _measurement_step, run_demo
+
+
+def test_measurement_demo_error_falls_into_band(tmp_path):
+    report = DemoReport(tmp_path)
+    _measurement_step(tmp_path, report, lambda s: None)
+    f = report.figures
+    # nominal stiffnesses are 30 % off: far outside the noise band ...
+    assert f["measurements_chi2_red_nominal"] > 10
+    # ... the fitted baseline still misses the hidden backlash, the final model does not
+    assert f["measurements_chi2_red_final"] < f["measurements_chi2_red_fitted_baseline"]
+    assert 0.8 < f["measurements_chi2_red_final"] < 1.2
+    assert f["measurements_rms_final_um"] < 1.6 * 15.0
+    text = "\n".join(report.lines)
+    assert "joint 2 backlash" in text
+    for name in ("robot_v1.toml", "diagnosis/history.png", "measurements_v1/errors.csv"):
+        assert (tmp_path / name).stat().st_size > 0
+
+
+@pytest.mark.slow
+def test_full_demo_writes_index(tmp_path):
+    report = run_demo(tmp_path / "demo")
+    index = (tmp_path / "demo" / "index.md").read_text()
+    assert "E-model" in index and "backlash" in index
+    assert 5.0 < report.figures["emodel_P1_defl_800N_y_mm"] < 7.0
