@@ -19,6 +19,10 @@ from .analyses import (
     stiffness_from_load_cases,
     tcp_compliance,
 )
+from .build import BuildOptions, LinkBuild, build_link, build_robot
+from .compare import ComparisonReport, compare_models
+from .flexible import flexible_arm, superelement_body
+from .full_fe import full_fe_analysis, full_fe_bodies, full_fe_matrices
 from .bodies import Body, combine_mass_properties, point_mass_properties, rigid_body
 from .emodel import emodel, link_mass_properties, total_mass
 from .ik import IKConfig, ik, ik_analytic, ik_dls
@@ -29,6 +33,17 @@ from .robot import Robot, pose_from_string
 from .system import ArmModel, SystemMatrices, rigid_tcp_map, system_matrices
 
 __all__ = [
+    "BuildOptions",
+    "ComparisonReport",
+    "LinkBuild",
+    "build_link",
+    "build_robot",
+    "compare_models",
+    "flexible_arm",
+    "full_fe_analysis",
+    "full_fe_bodies",
+    "full_fe_matrices",
+    "superelement_body",
     "ArmModel",
     "Body",
     "Chain",

@@ -249,9 +249,13 @@ def robot_dict() -> dict:
             regions[JOINTS[i][0]] = _region(seats[JOINTS[i][0]][0])
         if i > 0:
             regions[JOINTS[i - 1][0]] = _region(seats[JOINTS[i - 1][0]][1])
-        if name == "turning_disc":
+        if name == "base":  # foundation seat: the underside of the foot ring
+            regions["base"] = {"center": [0.0, 0.0, 0.0], "axis": [0.0, 0.0, 1.0],
+                               "r_min": 0.18, "r_max": 0.29, "half_width": 0.002,
+                               "coupling": "rbe2"}
+        if name == "turning_disc":  # flange ring outside the joint-6 seat (r <= 0.035)
             regions["tcp"] = {"center": [-0.0125, 0.0, 0.0], "axis": [1.0, 0.0, 0.0],
-                              "r_min": 0.03, "r_max": 0.08, "half_width": 0.0125,
+                              "r_min": 0.04, "r_max": 0.08, "half_width": 0.0125,
                               "coupling": "rbe3"}
         d["regions"] = dict(sorted(regions.items()))
         links.append(d)

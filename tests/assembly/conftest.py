@@ -42,3 +42,11 @@ def pytest_collection_modifyitems(config, items):
     for item in items:
         if "slow" in item.keywords and "tests/assembly" in str(item.fspath).replace("\\", "/"):
             item.add_marker(skip)
+
+
+@pytest.fixture(scope="session")
+def box_robot(tmp_path_factory):
+    """The three-link box arm of ``box_arm.py`` (STL + TOML in a temporary folder)."""
+    from .box_arm import box_arm_robot
+
+    return box_arm_robot(tmp_path_factory.mktemp("box_arm"))

@@ -1,0 +1,187 @@
+"""Side-by-side comparison of arm models at poses: E-model, Guyan, CB(n), CB + coupled
+wrist and the full-FE reference (first frequencies, TCP compliance diagonal, Bode).
+
+"Rigid-body" in the sense *rigid links and rigid joints* has no modes and no
+compliance, so it is not a column; the rigid-*link* model is the E-model.  Every
+difference between the E-model and the flexible models is link flexibility, because
+they share kinematics, joints, base, tool and mass properties.
+"""
+
+from __future__ import annotations
+
+import csv
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..fe.typing import FloatArray
+from .analyses import frf, natural_frequencies, tcp_compliance
+from .build import BuildOptions, Mesher, build_robot
+from .emodel import emodel
+from .flexible import flexible_arm
+from .full_fe import full_fe_analysis, full_fe_bodies
+from .robot import Robot, pose_from_string
+
+__all__ = ["ModelResult", "ComparisonReport", "compare_models"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class ModelResult:
+    """One model at one pose: ``freq_hz`` (n,) [Hz], ``C_diag`` (6,) TCP compliance
+    diagonal [m/N, rad/(N m)], ``n_dofs``, and the Y receptance magnitude ``bode``
+    (nf,) [m/N] at the report's ``freq_hz`` (None for the full-FE reference)."""
+
+    model: str
+    pose: str
+    freq_hz: FloatArray
+    C_diag: FloatArray
+    n_dofs: int
+    bode: FloatArray | None = None
+
+
+@dataclass(frozen=True)
+class ComparisonReport:
+    """All results, the reference model's name and the written files."""
+
+    results: tuple[ModelResult, ...]
+    reference: str
+    bode_freq_hz: FloatArray
+    files: tuple[Path, ...] = field(default=())
+
+    def get(self, model: str, pose: str) -> ModelResult:
+        for r in self.results:
+            if r.model == model and r.pose == pose:
+                return r
+        raise KeyError(f"no result for model '{model}' at pose '{pose}'")
+
+    def rows(self) -> list[dict]:
+        """Table rows: frequencies [Hz], compliance [mm/kN] and errors [%] vs reference."""
+        out = []
+        for r in self.results:
+            ref = self.get(self.reference, r.pose)
+            n = min(len(r.freq_hz), len(ref.freq_hz))
+            d = {"pose": r.pose, "model": r.model, "n_dofs": r.n_dofs}
+            for k in range(len(r.freq_hz)):
+                d[f"f{k + 1}_Hz"] = float(r.freq_hz[k])
+            for a, name in enumerate("xyz"):
+                d[f"C{name}{name}_mm_per_kN"] = float(r.C_diag[a] * 1e6)
+            err_f = 100 * (r.freq_hz[:n] / ref.freq_hz[:n] - 1)
+            err_c = 100 * (r.C_diag[:3] / ref.C_diag[:3] - 1)
+            d["max_f_err_pct"] = float(np.abs(err_f).max())
+            d["max_C_err_pct"] = float(np.abs(err_c).max())
+            out.append(d)
+        return out
+
+    def text(self) -> str:
+        """A plain-text table of :meth:`rows`."""
+        lines = []
+        for d in self.rows():
+            fs = " ".join(f"{d[k]:7.2f}" for k in d if k.endswith("_Hz"))
+            lines.append(f"{d['pose']:>4} {d['model']:<14} {d['n_dofs']:>7} | {fs} | C mm/kN "
+                         f"{d['Cxx_mm_per_kN']:.4f} {d['Cyy_mm_per_kN']:.4f} "
+                         f"{d['Czz_mm_per_kN']:.4f} | err f {d['max_f_err_pct']:.3f}% "
+                         f"C {d['max_C_err_pct']:.3f}%")
+        return "\n".join(lines)
+
+
+def _write(report: ComparisonReport, out: Path, poses: list[str]) -> tuple[Path, ...]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out.mkdir(parents=True, exist_ok=True)
+    rows = report.rows()
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    path = out / "model_comparison.csv"
+    with path.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, keys)
+        w.writeheader()
+        w.writerows(rows)
+    fig, axes = plt.subplots(1, len(poses), figsize=(5 * len(poses), 4), squeeze=False)
+    for ax, pose in zip(axes[0], poses, strict=True):
+        for r in report.results:
+            if r.pose == pose and r.bode is not None:
+                ax.loglog(report.bode_freq_hz, r.bode, label=r.model)
+        ax.set(title=f"{pose}: TCP receptance Y/Y", xlabel="frequency [Hz]",
+               ylabel="|H_yy| [m/N]")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    png = out / "model_comparison_bode.png"
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    return path, png
+
+
+def compare_models(
+    robot: Robot,
+    poses=("P1", "P2", "P3"),
+    n_modes: int | None = None,
+    coupling: str = "rbe2",
+    mesh_size: float | None = None,
+    n_freq: int = 10,
+    full_fe: bool = True,
+    mass_method: str = "tets",
+    out_dir=None,
+    mesher: Mesher | None = None,
+    bode_freq_hz: FloatArray | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> ComparisonReport:
+    """Compare E-model, Guyan, CB(n), CB + coupled wrist and full FE at ``poses``.
+
+    Parameters
+    ----------
+    robot : Robot
+    poses : sequence of str
+        Pose names or ``"q1,...,qn"`` in degrees.
+    n_modes, coupling, mesh_size
+        Build options (None: the robot's defaults).
+    n_freq : int
+        Frequencies compared per model.
+    full_fe : bool
+        Include the full-FE reference (else CB is the reference).
+    mass_method : {"tets", "surface"}
+        E-model mass properties (``"tets"`` = the same solids as the superelements).
+    out_dir : path, optional
+        Write ``model_comparison.csv`` and ``model_comparison_bode.png`` there.
+    mesher, progress
+        As for :func:`~flexarm.assembly.build.build_robot`.
+    """
+    say = progress or (lambda message: None)
+    cb = BuildOptions("cb", n_modes, coupling, mesh_size).resolved(robot)
+    gy = BuildOptions("guyan", 0, coupling, mesh_size).resolved(robot)
+    say("building Craig-Bampton links")
+    b_cb = build_robot(robot, cb, mesher=mesher, progress=say)
+    say("building Guyan links")
+    b_gy = build_robot(robot, gy, mesher=mesher, progress=say)
+    models = {"E-model": emodel(robot, mass_method, cb.mesh_size),
+              "Guyan": flexible_arm(robot, gy, b_gy), cb.label: flexible_arm(robot, cb, b_cb)}
+    if robot.chain.n_joints >= 6:
+        models[f"{cb.label}+wrist"] = flexible_arm(robot, cb, b_cb, coupled_wrist=True)
+    fb = full_fe_bodies(robot, cb, mesher, say) if full_fe else None
+    fbode = np.geomspace(1, 1000, 300) if bode_freq_hz is None else np.asarray(bode_freq_hz)
+    results = []
+    for pname in poses:
+        q = pose_from_string(robot, pname)
+        for name, arm in models.items():
+            say(f"{pname}: {name}")
+            f = natural_frequencies(arm, q)[:n_freq]
+            C = np.diag(tcp_compliance(arm, q))
+            H = np.abs(frf(arm, q, fbode)[:, 1, 1])
+            results.append(ModelResult(name, pname, f, C, arm.layout["n"], H))
+        if fb is not None:
+            say(f"{pname}: full FE")
+            ref = full_fe_analysis(models[cb.label], fb, q, n_freq)
+            results.append(ModelResult("full-FE", pname, ref.freq_hz, np.diag(ref.C),
+                                       ref.n_dofs))
+    report = ComparisonReport(tuple(results), "full-FE" if full_fe else cb.label, fbode)
+    if out_dir is not None:
+        files = _write(report, Path(out_dir), list(poses))
+        report = ComparisonReport(report.results, report.reference, fbode, files)
+    return report
