@@ -15,6 +15,7 @@ from types import MappingProxyType
 
 import numpy as np
 
+from ..fe.geometry import rigid_transport, skew
 from ..fe.mass_properties import MassProperties, rigid_body_mass_matrix
 from ..fe.typing import ArrayLike, FloatArray
 
@@ -26,29 +27,6 @@ __all__ = [
     "combine_mass_properties",
     "point_mass_properties",
 ]
-
-
-def skew(r: ArrayLike) -> FloatArray:
-    """(..., 3, 3) cross-product matrix: ``skew(r) @ v == cross(r, v)``."""
-    r = np.asarray(r, dtype=float)
-    S = np.zeros(r.shape[:-1] + (3, 3))
-    S[..., 0, 1], S[..., 0, 2] = -r[..., 2], r[..., 1]
-    S[..., 1, 0], S[..., 1, 2] = r[..., 2], -r[..., 0]
-    S[..., 2, 0], S[..., 2, 1] = -r[..., 1], r[..., 0]
-    return S
-
-
-def rigid_transport(r: ArrayLike) -> FloatArray:
-    """(..., 6, 6) small motion of a point at offset ``r`` [m] from a reference node.
-
-    ``[u_p; theta_p] = [[I, -S(r)], [0, I]] [u; theta]`` (u_p = u + theta x r).
-    """
-    r = np.asarray(r, dtype=float)
-    A = np.zeros(r.shape[:-1] + (6, 6))
-    A[..., :3, :3] = np.eye(3)
-    A[..., 3:, 3:] = np.eye(3)
-    A[..., :3, 3:] = -skew(r)
-    return A
 
 
 @dataclass(frozen=True, eq=False)

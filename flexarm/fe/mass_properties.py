@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .geometry import skew
 from .mesh import TetMesh
 
 __all__ = ["MassProperties", "mass_properties", "rigid_body_mass_matrix"]
@@ -73,8 +74,7 @@ def rigid_body_mass_matrix(mp: MassProperties, reference_point) -> np.ndarray:
 
     DOF order (u_x, u_y, u_z, theta_x, theta_y, theta_z) of the reference point [m, rad].
     """
-    r = mp.center_of_mass - np.asarray(reference_point, dtype=float)
-    S = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+    S = skew(mp.center_of_mass - np.asarray(reference_point, dtype=float))
     M = np.zeros((6, 6))
     M[:3, :3] = mp.mass * np.eye(3)
     M[:3, 3:] = -mp.mass * S

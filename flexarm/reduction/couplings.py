@@ -25,6 +25,7 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse as sp
 
+from ..fe.geometry import skew
 from ..fe.mesh import TET10_EDGES, TET_FACES, TetMesh
 from ..fe.typing import FloatArray, IntArray
 from .interfaces import Interface, check_spread
@@ -42,15 +43,6 @@ __all__ = [
 COUPLINGS = ("rbe2", "rbe3", "nodes")
 
 
-def _skew(r: FloatArray) -> FloatArray:
-    r = np.asarray(r, dtype=float)
-    S = np.zeros(r.shape[:-1] + (3, 3))
-    S[..., 0, 1], S[..., 0, 2] = -r[..., 2], r[..., 1]
-    S[..., 1, 0], S[..., 1, 2] = r[..., 2], -r[..., 0]
-    S[..., 2, 0], S[..., 2, 1] = -r[..., 1], r[..., 0]
-    return S
-
-
 def rigid_transport(r: FloatArray) -> FloatArray:
     """(..., 3, 6) translation of points at offsets ``r`` (..., 3) [m] from a 6-DOF node.
 
@@ -62,7 +54,7 @@ def rigid_transport(r: FloatArray) -> FloatArray:
     r = np.asarray(r, dtype=float)
     R = np.zeros(r.shape[:-1] + (3, 6))
     R[..., :, :3] = np.eye(3)
-    R[..., :, 3:] = -_skew(r)
+    R[..., :, 3:] = -skew(r)
     return R
 
 
