@@ -528,7 +528,19 @@ def _run_study_part(args) -> int:
 
 # --- contact applications (issue 7): circle | chatter | chatter-map ---------------------
 def _add_circle(p: argparse.ArgumentParser) -> None:
-    _add_arm_common(p, pose=False)
+    p.add_argument("--robot", default=None,
+                   help="robot TOML (with an optional [nonlinear] table) or URDF (default: demo)")
+    p.add_argument("--model", default="emodel", choices=["emodel", "cb", "guyan"],
+                   help="rigid links (E-model) or flexible links (Craig-Bampton, Guyan)")
+    p.add_argument("--compare-models", action="store_true",
+                   help="overlay the E-model and the flexible model (cb unless --model guyan)")
+    p.add_argument("--mesh-size", type=float, default=None, help="flexible links: tet edge [m]")
+    p.add_argument("--modes", type=int, default=None, help="CB modes per link (robot default)")
+    p.add_argument("--effect", action="append", default=[],
+                   help="extra joint effect, e.g. backlash:j3=0.2mrad (repeatable)")
+    p.add_argument("--mass", default="surface", choices=["tets", "surface"],
+                   help="E-model mass properties from CAD surfaces (default) or tet meshes")
+    p.add_argument("-o", "--output", default=None, help="folder for PNG/CSV output")
     p.add_argument("--rapid", default=None, help="RAPID module (default: the thesis's appendix B)")
     p.add_argument("--proc", default="Path_30", help="procedure name")
     p.add_argument("--loads", default="0,200,400,800", help="bar forces [N], comma-separated")
@@ -537,7 +549,24 @@ def _add_circle(p: argparse.ArgumentParser) -> None:
     p.add_argument("--tool", default="tool0", choices=["tool0", "robot"],
                    help="load point: flange (tool0, as programmed) or the robot's TCP")
     p.add_argument("--step", type=float, default=2.0, help="path sampling step [mm]")
-    p.add_argument("--measured", default=None, help="measured path or static CSV to overlay")
+    p.add_argument("--measured", default=None,
+                   help="measured circle to overlay: path CSV or static-schema CSV")
+
+
+def _circle_robot(args):
+    """Robot and its effects: TOML [nonlinear] table plus ``--effect`` options."""
+    from .assembly.formats import read
+    from .meshes.demo_arm import load_demo_robot
+    from .validation.effects import parse_effect
+    from .validation.history import read_robot_effects
+
+    if args.robot is None:
+        robot, effects = load_demo_robot(), []
+    elif str(args.robot).lower().endswith(".toml"):
+        robot, effects = read_robot_effects(args.robot)
+    else:
+        robot, effects = read(args.robot), []
+    return robot, effects + [parse_effect(e, robot.chain.n_joints) for e in args.effect]
 
 
 @command("circle", "loaded circle test (LDBB): deviation, polar plot, Z along the path",
@@ -546,28 +575,42 @@ def _run_circle(args) -> int:
     from importlib.resources import files
 
     from .assembly.contact import measured_deviation, predict_circle, rapid_circle
+    from .assembly.contact.circle_data import static_circle_readings, write_circle_csv
+    from .assembly.contact.circle_models import circle_arm, nonlinear_solver
     from .assembly.contact.plots import plot_circle_polar, plot_circle_top, plot_circle_z
     from .assembly.formats.rapid import read_rapid
+    from .validation.effects import apply_effects
 
-    robot, arm = _arm_from_args(args)
+    robot, effects = _circle_robot(args)
     mod = read_rapid(args.rapid or files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod")
     if args.proc not in mod.procedures:
         raise ValueError(f"no procedure {args.proc} (module has {sorted(mod.procedures)})")
     pivot = None if args.pivot is None else np.array(args.pivot.split(","), float) * 1e-3
     setup = rapid_circle(robot, mod, args.proc, pivot, args.tool, args.step)
     loads = np.array(args.loads.split(","), dtype=float)
-    pred = predict_circle(arm, setup, loads, pull=args.pull)
     _print(f"{args.proc}: {len(setup.points)} samples, load point {args.tool}, pivot "
            f"{np.round(setup.pivot * 1e3, 3).tolist()} mm, bar {setup.bar_length.mean() * 1e3:.3f}"
            f" mm, circle R {setup.radius * 1e3:.3f} mm; conf met at "
            f"{int(setup.ik.is_conf_met.sum())}/{len(setup.ik.is_conf_met)} targets")
     for note in setup.ik.notes:
         _print(f"  note: {note}")
+    names = [args.model]
+    if args.compare_models:
+        names = ["emodel", "guyan" if args.model == "guyan" else "cb"]
     ang = np.degrees(setup.angles)
-    for F, b, z in zip(loads, pred.bar, pred.normal, strict=True):
-        k = int(np.argmax(np.abs(b)))
-        _print(f"  {F:6.0f} N: max |bar| {np.abs(b).max() * 1e3:.4f} mm at {ang[k]:7.1f} deg,"
-               f" max |normal| {np.abs(z).max() * 1e3:.4f} mm")
+    runs = []
+    for name in names:
+        arm = circle_arm(robot, name, args.mass, args.mesh_size, args.modes)
+        arm, laws = apply_effects(arm, effects)
+        pred = predict_circle(arm, setup, loads, args.pull, nonlinear_solver(laws))
+        label = {"emodel": "E-model", "cb": "CB", "guyan": "Guyan"}[name]
+        runs.append((label, pred))
+        _print(f"{label} ({pred.method}{', laws on joints ' if laws else ''}"
+               f"{','.join(str(j + 1) for j in sorted(laws))}):")
+        for F, b, z in zip(loads, pred.bar, pred.normal, strict=True):
+            k = int(np.argmax(np.abs(b)))
+            _print(f"  {F:6.0f} N: max |bar| {np.abs(b).max() * 1e3:.4f} mm at {ang[k]:7.1f} deg,"
+                   f" max |normal| {np.abs(z).max() * 1e3:.4f} mm")
     meas = None
     if args.measured:
         from .validation import read_measurements
@@ -575,22 +618,24 @@ def _run_circle(args) -> int:
         data = read_measurements(args.measured)
         if hasattr(data, "points"):
             meas = measured_deviation(setup, data.points, data.force)
+        elif hasattr(data, "disp"):
+            meas = measured_deviation(setup, *static_circle_readings(setup, robot.chain, data))
         else:
-            raise ValueError("--measured: give a path CSV (step, x_mm, y_mm, z_mm, f_N)")
+            raise ValueError("--measured: give a path CSV (step, x_mm, y_mm, z_mm, f_N) or a "
+                             "static CSV (series, step, q1_deg.., fx_N.., dx_mm..)")
+        _print(f"measured: {len(meas[0])} readings at {np.unique(meas[3]).tolist()} N, max |bar| "
+               f"{np.abs(meas[1]).max() * 1e3:.4f} mm")
     if args.output:
         os.makedirs(args.output, exist_ok=True)
-        cols = [np.arange(len(ang)), ang, *(setup.points * 1e3).T]
-        head = ["step", "angle_deg", "x_mm", "y_mm", "z_mm"]
-        for F, b, r, z in zip(loads, pred.bar, pred.radial, pred.normal, strict=True):
-            cols += [b * 1e3, r * 1e3, z * 1e3]
-            head += [f"bar_mm_{F:.0f}N", f"radial_mm_{F:.0f}N", f"normal_mm_{F:.0f}N"]
         csv = os.path.join(args.output, f"circle_{args.proc}.csv")
-        np.savetxt(csv, np.column_stack(cols), delimiter=",", header=",".join(head),
-                   comments="", fmt="%.9g")
+        write_circle_csv(csv, runs)
         _print(f"wrote {csv}")
-        for path in (plot_circle_top(pred, os.path.join(args.output, "circle_top.png")),
-                     plot_circle_polar(pred, os.path.join(args.output, "circle_polar.png"), meas),
-                     plot_circle_z(pred, os.path.join(args.output, "circle_z.png"), meas)):
+        (label, pred), rest = runs[0], runs[1:]
+        kw = {"label": label if rest else "", "compare": rest}
+        out = args.output
+        for path in (plot_circle_top(pred, os.path.join(out, "circle_top.png"), **kw),
+                     plot_circle_polar(pred, os.path.join(out, "circle_polar.png"), meas, **kw),
+                     plot_circle_z(pred, os.path.join(out, "circle_z.png"), meas, **kw)):
             _print(f"wrote {path}")
     return 0
 
@@ -698,6 +743,42 @@ def _add_validation_common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robot", default=None, help="robot TOML (default: built-in demo arm)")
     p.add_argument("--mass", default="surface", choices=["tets", "surface"],
                    help="link mass properties from CAD surfaces (default) or tet meshes")
+    p.add_argument("--flexible", action="store_true", help="build the flexible model (link "
+                   "flexibility); the E-model then takes its masses from the same tet meshes")
+    p.add_argument("--flex-mesh", type=float, default=0.06,
+                   help="tet size [m] of the flexible model (default 0.06, cached)")
+
+
+def _flexible_models(args, robot, arm):
+    """(E-model, flexible model) when --flexible, else (arm, None)."""
+    if not args.flexible:
+        return arm, None
+    from .assembly.build import BuildOptions
+    from .assembly.emodel import emodel
+    from .assembly.flexible import flexible_arm
+
+    with _Progress(f"flexible model (mesh {args.flex_mesh} m, cached after the first run)"):
+        fa = flexible_arm(robot, BuildOptions(mesh_size=args.flex_mesh, n_modes=4))
+    return emodel(robot, method="tets", mesh_size=args.flex_mesh), fa
+
+
+def _with_links(effects, flexible) -> list:
+    """Effects plus the flexible model's links (``links:c=1``) when one was built."""
+    from .validation.effects import Effect
+
+    if flexible is None or any(e.kind == "links" for e in effects):
+        return list(effects)
+    return list(effects) + [Effect("links", None, (("compliance", 1.0),))]
+
+
+def _parse_noise(text: str, quantity: str = "length") -> float:
+    """'15um' -> 1.5e-5 (SI); a bare number is SI."""
+    from .validation.units import si_factor
+
+    m = __import__("re").fullmatch(r"([0-9.eE+-]+)\s*([a-z]*)", text.strip())
+    if not m:
+        raise ValueError(f"noise '{text}': expected a number with a unit like 15um")
+    return float(m.group(1)) * (float(si_factor(quantity, m.group(2))) if m.group(2) else 1.0)
 
 
 def _add_lab(p: argparse.ArgumentParser) -> None:
@@ -710,6 +791,9 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dirs", default="x,y,z", help="load directions, e.g. x,y,z,-z")
     p.add_argument("--cycles", action="store_true", help="load then unload each series")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--modal", default=None, help="also write natural frequencies to this CSV")
+    p.add_argument("--n-modes", type=int, default=4, help="modes per pose in --modal")
+    p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
     p.add_argument("-o", "--output", required=True, help="static CSV to write")
 
 
@@ -718,29 +802,68 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
 def _run_lab(args) -> int:
     from .validation.effects import parse_effect
     from .validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab, write_lab
-    from .validation.units import si_factor
+
+    from .validation import write_modal
+    from .validation.modal import virtual_modal
 
     robot, arm, base_effects = _validation_arm(args)
-    m = __import__("re").fullmatch(r"([0-9.eE+-]+)\s*([a-z]*)", args.noise.strip())
-    if not m:
-        raise ValueError(f"--noise '{args.noise}': expected a length like 15um")
-    noise = float(m.group(1)) * (float(si_factor("length", m.group(2))) if m.group(2) else 1.0)
+    noise = _parse_noise(args.noise)
     effects = list(base_effects) + [parse_effect(s, len(robot.joints)) for s in args.effect]
+    args.flexible = args.flexible or any(e.kind == "links" for e in effects)
+    arm, flexible = _flexible_models(args, robot, arm)
     plan = LabPlan({p: robot.pose(p) for p in args.poses.split(",")}, parse_loads(args.loads),
                    parse_dirs(args.dirs), args.cycles)
-    data = virtual_lab(arm, plan, effects, noise, args.seed)
+    data = virtual_lab(arm, plan, effects, noise, args.seed, flexible)
     truth = {"effects": [e.to_dict() for e in effects], "noise_m": noise, "seed": args.seed,
              "robot": args.robot or "demo"}
+    if flexible is not None:
+        truth["flexible_mesh_m"] = args.flex_mesh
+    if args.modal:
+        modal = virtual_modal(arm, plan.poses, effects, args.n_modes, args.freq_noise / 100,
+                              args.seed, flexible)
+        truth["freq_noise"] = args.freq_noise / 100
+        _print(f"wrote {write_modal(args.modal, modal, ('virtual lab data (flexarm lab)',))} "
+               f"({len(modal.freq_hz)} frequencies)")
     path, tpath = write_lab(args.output, data, truth)
     _print(f"wrote {path} ({len(data.series)} readings, {data.n_series} series) and {tpath}")
     return 0
 
 
 def _add_compare(p: argparse.ArgumentParser) -> None:
-    p.add_argument("data", help="static measurement CSV")
+    p.add_argument("data", help="measurement CSV: static, modal or frf (recognised by columns)")
     _add_validation_common(p)
     p.add_argument("--noise", type=float, default=15.0, help="tracker noise [um] (no sigma column)")
+    p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%] (modal)")
     p.add_argument("-o", "--output", default=None, help="report folder (CSV, PNG)")
+
+
+def _compare_dynamic(args, data) -> int:
+    """`compare` on modal or FRF data: error table, chi2_red (modal), plots."""
+    from .validation import ModalData
+    from .validation import compare_dynamic as cd
+
+    robot, arm, effects = _validation_arm(args)
+    arm, flexible = _flexible_models(args, robot, arm)
+    effects = _with_links(effects, flexible)
+    if isinstance(data, ModalData):
+        cmp = cd.compare_modal(arm, data, effects, args.freq_noise / 100, flexible)
+        _print(_table(["pose", "mode", "measured_Hz", "model_Hz", "error_Hz", "error_%"],
+                      [[r["pose"], r["mode"], r["measured_hz"], r["model_hz"], r["error_hz"],
+                        r["error_pct"]] for r in cmp.table], "{:.3f}"))
+        _print(f"chi2_red = {cmp.chi2_red:.3f} (band {cmp.band[0]:.3f}-{cmp.band[1]:.3f} for "
+               f"{args.freq_noise}% frequency noise), RMS error {cmp.rms_pct:.2f}%")
+        write = cd.write_modal_report
+    else:
+        cmp = cd.compare_frf(arm, data, effects, flexible)
+        _print(_table(["pose", "in", "out", "rms_log10|H|", "peak_meas_Hz", "peak_model_Hz",
+                       "peak_err_%"], [[r["pose"], r["input"], r["output"], r["rms_log10_mag"],
+                                        r["peak_meas_hz"], r["peak_model_hz"],
+                                        r["peak_error_pct"]] for r in cmp.table], "{:.3f}"))
+        write = cd.write_frf_report
+    if args.output:
+        for p in write(args.output, cmp):
+            _print(f"wrote {p}")
+    return 0
 
 
 @command("compare", "model predictions vs static measurements: errors, chi2_red, plots",
@@ -749,9 +872,15 @@ def _run_compare(args) -> int:
     from .validation import read_measurements
     from .validation.compare import compare_static, write_report
 
-    robot, arm, effects = _validation_arm(args)
+    from .validation import FrfData, ModalData
+
     data = read_measurements(args.data)
-    cmp = compare_static(arm, data, effects, args.noise * 1e-6)
+    if isinstance(data, (ModalData, FrfData)):
+        return _compare_dynamic(args, data)
+    robot, arm, effects = _validation_arm(args)
+    arm, flexible = _flexible_models(args, robot, arm)
+    effects = _with_links(effects, flexible)
+    cmp = compare_static(arm, data, effects, args.noise * 1e-6, flexible)
     _print(_table(["series", "mean_abs_mm", "max_abs_mm", "relative", "max_meas_mm"],
                   [[r["series"], r["mean_abs_mm"], r["max_abs_mm"], r["relative"],
                     r["max_meas_mm"]] for r in cmp.table], "{:.4f}"))
@@ -772,6 +901,9 @@ def _add_diagnose(p: argparse.ArgumentParser) -> None:
                    "effects and fitted parameters (-o)")
     p.add_argument("-o", "--output", default=None, help="robot TOML for --apply")
     p.add_argument("--report", default=None, help="folder for the history CSV/JSON/PNG")
+    p.add_argument("--modal", default=None, help="measured natural frequencies CSV (joins the "
+                   "fits; implies --flexible)")
+    p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
 
 
 @command("diagnose", "find which physical effect the model misses in static measurements",
@@ -788,7 +920,11 @@ def _run_diagnose(args) -> int:
         raise ValueError("diagnose starts from a linear model: the robot file already has "
                          "a [nonlinear] table")
     data = read_measurements(args.data)
-    dg = diagnose(arm, data, args.noise * 1e-6, poses=robot.poses)
+    modal = None if args.modal is None else read_measurements(args.modal)
+    args.flexible = args.flexible or modal is not None
+    arm, flexible = _flexible_models(args, robot, arm)
+    dg = diagnose(arm, data, args.noise * 1e-6, poses=robot.poses, modal=modal,
+                  flexible=flexible, freq_noise=args.freq_noise / 100)
     sv = dg.identifiability["singular_values"]
     _print(f"identifiability: condition {dg.identifiability['condition']:.3g}, singular "
            f"values {', '.join(f'{v:.3g}' for v in sv)}")
@@ -873,6 +1009,88 @@ def _run_compare_models(args) -> int:
     _print(rep.text())
     for f in rep.files:
         _print(f"wrote {f}")
+    return 0
+
+
+# --- flexible arm (issue 5): study | show-arm ------------------------------------------
+def _floats(text: str) -> list[float]:
+    return [float(s) for s in text.split(",") if s.strip()]
+
+
+def _add_study(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML (default: built-in demo arm)")
+    p.add_argument("--pose", default="P1", help="pose name or 'q1,...,qn' in degrees")
+    p.add_argument("--preset", default=None, choices=["small", "full"],
+                   help="named sweep (explicit --sizes/--modes/--couplings override it)")
+    p.add_argument("--sizes", default=None,
+                   help="tet edges [m], e.g. 0.06,0.045,0.03 (default 1.5x and 1x the robot's)")
+    p.add_argument("--modes", default=None, help="CB modes per link, 0 = Guyan (0,5,10,20)")
+    p.add_argument("--couplings", default=None, help="rbe2,rbe3,k<N> (rbe2,rbe3,k4,k8)")
+    p.add_argument("--reference-coupling", default="rbe2", choices=["rbe2", "rbe3"])
+    p.add_argument("-o", "--output", default="flexarm-study", help="folder for CSV and PNGs")
+
+
+@command("study", "accuracy of the whole arm vs node count, CB modes and interface "
+         "representation against full FE (CSV, PNGs, verdict)", _add_study)
+def _run_study(args) -> int:
+    from .assembly.study import PRESETS, run_study
+
+    robot = _robot_arg(args)
+    pre = PRESETS[args.preset or "full"]
+    sizes = _floats(args.sizes) if args.sizes else pre["sizes"]
+    modes = [int(v) for v in _floats(args.modes)] if args.modes else pre["modes"]
+    couplings = ([s.strip() for s in args.couplings.split(",") if s.strip()]
+                 if args.couplings else pre["couplings"])
+    res = run_study(robot, args.pose, sizes, modes, couplings, args.output,
+                    progress=lambda s: print(s, file=sys.stderr, flush=True),  # noqa: T201
+                    reference_coupling=args.reference_coupling)
+    ref = res.reference
+    _print(f"reference: full FE, {ref.n_dofs} DOF at {ref.mesh_size * 1e3:.0f} mm "
+           f"({ref.coupling}), {ref.seconds:.1f} s")
+    _print(_table(["size_mm", "coupling", "model", "DOF", "FE_DOF", "f_err_max_%",
+                   "f_err_mean_%", "C_err_max_%", "build_s", "solve_ms"],
+                  [[f"{r.mesh_size * 1e3:.0f}", r.coupling, r.label, r.n_reduced, r.n_fe_dofs,
+                    100 * r.freq_err_max, 100 * r.freq_err_mean, 100 * r.C_err_max,
+                    r.build_seconds, 1e3 * r.solve_seconds] for r in res.rows],
+                  floatfmt="{:.3g}"))
+    _print(res.verdict)
+    for f in res.files:
+        _print(f"wrote {f}")
+    return 0
+
+
+def _add_show_arm(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML (default: built-in demo arm)")
+    p.add_argument("--pose", default="P1", help="pose name or 'q1,...,qn' in degrees")
+    p.add_argument("--model", default="cb", choices=["cb", "guyan", "emodel"])
+    p.add_argument("--modes", type=int, default=None, help="CB modes per link (robot default)")
+    p.add_argument("--coupling", default="rbe2", choices=["rbe2", "rbe3"])
+    p.add_argument("--mesh-size", type=float, default=None, help="tet edge [m] (robot default)")
+    p.add_argument("--mode", type=int, default=1, help="arm mode number (1-based)")
+    p.add_argument("--amplitude", type=float, default=0.06,
+                   help="largest drawn displacement / arm size")
+    p.add_argument("--ellipsoid", action="store_true", help="draw the TCP compliance ellipsoid")
+    p.add_argument("--interactive", action="store_true", help="open a window (needs a display)")
+    p.add_argument("-o", "--output", default=None, help="picture .png or .gif")
+
+
+@command("show-arm", "picture of the assembled arm deformed by a mode at a pose (PNG, GIF)",
+         _add_show_arm)
+def _run_show_arm(args) -> int:
+    from .assembly.render_arm import arm_model, render_arm_mode
+    from .assembly.robot import pose_from_string
+
+    if args.output is None and not args.interactive:
+        args.output = f"arm_mode{args.mode}.png"
+    robot = _robot_arg(args)
+    q = pose_from_string(robot, args.pose)
+    arm, builds = arm_model(robot, args.model, args.modes, args.coupling, args.mesh_size,
+                            progress=lambda s: print(s, file=sys.stderr))  # noqa: T201
+    out = render_arm_mode(robot, q, args.mode, args.output, args.model, args.ellipsoid,
+                          args.pose, arm=arm, builds=builds, amplitude=args.amplitude,
+                          interactive=args.interactive)
+    if out is not None:
+        _print(f"wrote {out}")
     return 0
 
 

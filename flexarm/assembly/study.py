@@ -1,0 +1,528 @@
+"""Whole-arm accuracy study: mesh size x CB modes x interface representation.
+
+Every *variant* (tet edge ``h``, Craig-Bampton modes per link ``n`` with ``0`` =
+Guyan, interface representation) is built, assembled at one pose and compared with
+the **full-FE reference**: the unreduced links at the finest mesh, joined through
+the same joints, base and tool (:func:`~flexarm.assembly.full_fe.full_fe_analysis`,
+RBE2 seats by default).  Per variant the study records
+
+* the largest and the mean relative error of the first ``n_freq`` arm frequencies;
+* the largest and the mean relative error of the TCP compliance diagonal (6 terms,
+  base frame);
+* the reduced system DOF and the FE DOF of the links;
+* the build time (reduction of all links, as first measured: a cached build reports
+  the seconds written next to its superelement), the solve time (assembly at the pose,
+  eigenvalues, compliance) and, per mesh size, the time to mesh (or load from the
+  mesh cache) all links -- shared by every variant of that size, so it is listed but
+  not charged to the variants.
+
+Interface representations: ``rbe2``/``rbe3`` (one 6-DOF node per seat, the cached
+builds of :func:`~flexarm.assembly.build.build_robot`) and ``k<N>`` (``N`` seat nodes
+kept as 3-DOF masters, then tied rigidly to the seat centre in the reduced space: a
+bolt-like connection through ``N`` points, :func:`kmaster_builds`).
+
+Outputs: ``arm_study.csv``, ``arm_study_error_vs_dof.png`` (log-log),
+``arm_study_pareto.png`` (error vs time) and ``arm_study_verdict.txt``.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import logging
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..fe.files import atomic_path, cache_dir, digest, file_digest
+from ..fe.typing import FloatArray
+from ..reduction import Superelement, reduce_with_stats
+from ..reduction.couplings import rigid_transport
+from ..reduction.formats import h5
+from .analyses import natural_frequencies, tcp_compliance
+from .build import (
+    BuildOptions,
+    LinkBuild,
+    Mesher,
+    build_robot,
+    cylinder_regions,
+    link_material,
+    link_mesh,
+    link_regions,
+)
+from .flexible import flexible_arm
+from .robot import Robot
+
+__all__ = ["PRESETS", "StudyRow", "Reference", "StudyResult", "parse_representation",
+           "tied_superelement", "kmaster_builds", "reference_result", "run_variant",
+           "run_study", "verdict", "write_study", "plot_error_vs_dof", "plot_pareto"]
+
+log = logging.getLogger(__name__)
+
+#: Version of the reference cache layout.
+STUDY_VERSION = 2
+
+#: Named sweeps. ``sizes=None``: 1.5 x and 1 x the robot's mesh size.
+PRESETS = {
+    "small": {"sizes": None, "modes": (0, 5, 10), "couplings": ("rbe2", "rbe3")},
+    "full": {"sizes": None, "modes": (0, 5, 10, 20), "couplings": ("rbe2", "rbe3", "k4", "k8")},
+}
+
+
+@dataclass(frozen=True)
+class StudyRow:
+    """One variant (errors relative [-], times [s], compliance base frame)."""
+
+    mesh_size: float
+    coupling: str
+    n_modes: int
+    label: str
+    n_reduced: int
+    n_fe_dofs: int
+    freq_err_max: float
+    freq_err_mean: float
+    C_err_max: float
+    C_err_mean: float
+    build_seconds: float
+    solve_seconds: float
+    mesh_seconds: float = 0.0
+    freq_hz: tuple = ()
+    C_diag: tuple = ()
+
+    @property
+    def error(self) -> float:
+        """The larger of the worst frequency and the worst compliance error [-]."""
+        return max(self.freq_err_max, self.C_err_max)
+
+    @property
+    def seconds(self) -> float:
+        """Build plus solve time [s]."""
+        return self.build_seconds + self.solve_seconds
+
+
+@dataclass(frozen=True)
+class Reference:
+    """Full-FE reference: ``freq_hz`` (n,) [Hz], ``C_diag`` (6,) [m/N, rad/(N m)]."""
+
+    freq_hz: FloatArray
+    C_diag: FloatArray
+    n_dofs: int
+    mesh_size: float
+    coupling: str
+    seconds: float
+
+
+@dataclass(frozen=True)
+class StudyResult:
+    """All rows, the reference, the verdict text and the written files."""
+
+    rows: tuple[StudyRow, ...]
+    reference: Reference
+    pose: str
+    verdict: str
+    files: tuple[Path, ...] = field(default=())
+
+
+def parse_representation(text: str) -> tuple[str, int | None]:
+    """``"rbe2"`` -> ``("rbe2", None)``, ``"k8"`` -> ``("nodes", 8)``.
+
+    >>> parse_representation("k4")
+    ('nodes', 4)
+    """
+    t = text.strip().lower()
+    if t in ("rbe2", "rbe3"):
+        return t, None
+    if t.startswith("k") and t[1:].isdigit() and int(t[1:]) >= 3:
+        return "nodes", int(t[1:])
+    raise ValueError(f"interface representation must be rbe2, rbe3 or k<N> (N >= 3), "
+                     f"got '{text}'")
+
+
+def tied_superelement(se: Superelement) -> Superelement:
+    """A 3-DOF-node superelement with its masters tied rigidly to each seat centre.
+
+    Master node ``p`` of interface ``i`` moves as ``u_p = u_c + theta_c x (p - c_i)``;
+    the result has one 6-DOF node per interface at ``interface_positions`` (then the
+    modal coordinates unchanged), so it joins the arm like an RBE2 superelement.
+    """
+    if se.dofs_per_node != 3:
+        raise ValueError(f"expected 3-DOF master nodes, got {se.dofs_per_node}-DOF nodes")
+    n_if = len(se.interface_names)
+    nb, m = se.n_boundary, se.n_modes
+    nodes = np.asarray(se.node_positions, dtype=float)
+    owner = np.asarray(se.node_interface, dtype=int)
+    A = rigid_transport(nodes - np.asarray(se.interface_positions)[owner])  # (n_b, 3, 6)
+    S = np.zeros((nb + m, 6 * n_if + m))
+    rows = np.arange(nb).reshape(-1, 3)
+    cols = 6 * owner[:, None] + np.arange(6)
+    S[rows[:, :, None], cols[:, None, :]] = A
+    S[nb:, 6 * n_if:] = np.eye(m)
+    K = S.T @ np.asarray(se.K) @ S
+    M = S.T @ np.asarray(se.M) @ S
+    T = None if se.T is None else (np.asarray(se.T, dtype=float) @ S).astype(se.T.dtype)
+    return dataclasses.replace(
+        se, K=0.5 * (K + K.T), M=0.5 * (M + M.T), T=T, dofs_per_node=6,
+        node_positions=np.array(se.interface_positions, dtype=float),
+        node_interface=np.arange(n_if), input_hash=digest(se.input_hash, "tied"))
+
+
+def kmaster_builds(robot: Robot, options: BuildOptions, k: int, cache: bool = True,
+                   mesher: Mesher | None = None,
+                   progress: Callable[[str], None] | None = None) -> tuple[LinkBuild, ...]:
+    """Like :func:`~flexarm.assembly.build.build_robot` with ``k`` master nodes per seat.
+
+    Each seat keeps ``k`` of its surface nodes as 3-DOF masters during the reduction
+    (the other seat nodes stay free); :func:`tied_superelement` then ties them to the
+    seat centre.  Cached in ``cache_dir()/superelements/k<k>-<key>.h5``.
+    """
+    opts = options.resolved(robot)
+    say = progress or (lambda message: None)
+    out = []
+    for i, lk in enumerate(robot.links):
+        names = link_regions(robot, i, opts.tcp)
+        if not names:
+            out.append(LinkBuild(lk.name, None, ()))
+            continue
+        mesh = mesher(lk, opts.mesh_size, opts.order) if mesher is not None else None
+        mesh_id = digest(mesh.points, mesh.tets) if mesh is not None else file_digest(lk.mesh)
+        mat = link_material(lk, opts.stiffness_scale)
+        key = digest("flexarm-study-k", STUDY_VERSION, k, mesh_id, lk.units, opts.mesh_size,
+                     opts.order, (mat.E, mat.nu, mat.rho),
+                     repr([(n, dataclasses.astuple(lk.regions[n])) for n in names]),
+                     opts.method, opts.n_modes)
+        path = cache_dir() / "superelements" / f"k{k}-{key}.h5"
+        meta = path.with_suffix(".json")
+        if cache and path.is_file() and meta.is_file():
+            st = json.loads(meta.read_text())
+            se = h5.read(path)
+            out.append(LinkBuild(lk.name, se, names, st["n_tets"], st["n_fe_dofs"], se.n_dofs,
+                                 0.0, True, path))
+            say(f"{lk.name}: k{k} superelement from cache")
+            continue
+        t0 = time.perf_counter()
+        if mesh is None:
+            mesh = link_mesh(lk, opts.mesh_size, opts.order)
+        se, _ = reduce_with_stats(mesh, mat, cylinder_regions(lk, names), "nodes", opts.method,
+                                  opts.n_modes, n_masters=k)
+        se = tied_superelement(se)
+        dt = time.perf_counter() - t0
+        if cache:
+            h5.write(path, se)
+            with atomic_path(meta) as tmp:
+                tmp.write_text(json.dumps({"n_tets": mesh.n_tets, "n_fe_dofs": mesh.n_dofs,
+                                           "seconds": dt}))
+        say(f"{lk.name}: k{k} {mesh.n_dofs} -> {se.n_dofs} DOF in {dt:.1f} s")
+        out.append(LinkBuild(lk.name, se, names, mesh.n_tets, mesh.n_dofs, se.n_dofs, dt, False,
+                             path if cache else None))
+    return tuple(out)
+
+
+def _mesh_ids(robot: Robot, size: float, order: int, mesher: Mesher | None) -> list:
+    if mesher is not None:
+        return [digest(m.points, m.tets) for m in (mesher(lk, size, order) for lk in robot.links)]
+    return [None if lk.mesh is None else file_digest(lk.mesh) for lk in robot.links]
+
+
+def reference_result(robot: Robot, q, mesh_size: float, coupling: str = "rbe2",
+                     n_freq: int = 10, mesher: Mesher | None = None, cache: bool = True,
+                     progress: Callable[[str], None] | None = None) -> Reference:
+    """Full-FE frequencies and TCP compliance diagonal at pose ``q`` (n,) [rad].
+
+    The links are unreduced (:func:`~flexarm.assembly.full_fe.full_fe_bodies`); the
+    joints, base support, tool and wrist come from :func:`flexible_arm`, so they are
+    those of every variant.  Cached as JSON in ``cache_dir()/study`` keyed by the robot,
+    its meshes, the pose and the options; ``seconds`` is the time of the first run.
+    """
+    from .full_fe import full_fe_analysis, full_fe_bodies
+
+    say = progress or (lambda message: None)
+    opts = BuildOptions("cb", 0, coupling, mesh_size).resolved(robot)
+    q = np.asarray(q, dtype=float)
+    key = digest("flexarm-study-ref", STUDY_VERSION, repr(robot), q, opts.mesh_size,
+                 opts.order, opts.tcp, coupling, n_freq,
+                 _mesh_ids(robot, opts.mesh_size, opts.order, mesher))
+    path = cache_dir() / "study" / f"{key}.json"
+    if cache and path.is_file():
+        d = json.loads(path.read_text())
+        say(f"full-FE reference from cache ({d['n_dofs']} DOF)")
+        return Reference(np.array(d["freq_hz"]), np.array(d["C_diag"]), d["n_dofs"],
+                         mesh_size, coupling, d["seconds"])
+    say(f"full-FE reference at {mesh_size * 1e3:.0f} mm ({coupling})")
+    t0 = time.perf_counter()
+    bodies = full_fe_bodies(robot, opts, mesher, say)
+    # joints, base, tool and wrist exactly as the flexible variants (only bodies differ)
+    gy = BuildOptions("guyan", 0, coupling, mesh_size)
+    arm = flexible_arm(robot, gy, build_robot(robot, gy, cache, mesher))
+    res = full_fe_analysis(arm, bodies, q, n_freq)
+    dt = time.perf_counter() - t0
+    ref = Reference(np.asarray(res.freq_hz), np.diag(res.C).copy(), res.n_dofs, mesh_size,
+                    coupling, dt)
+    say(f"full-FE reference: {res.n_dofs} DOF in {dt:.1f} s")
+    if cache:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_path(path) as tmp:
+            tmp.write_text(json.dumps({"freq_hz": ref.freq_hz.tolist(),
+                                       "C_diag": ref.C_diag.tolist(), "n_dofs": ref.n_dofs,
+                                       "seconds": dt}))
+    return ref
+
+
+def _premesh(robot: Robot, size: float, order: int, mesher: Mesher | None) -> float:
+    """Mesh every link at ``size`` (tet cache) so that builds time only the reduction [s]."""
+    t0 = time.perf_counter()
+    for lk in robot.links:
+        if mesher is not None:
+            mesher(lk, size, order)
+        elif lk.mesh is not None:
+            link_mesh(lk, size, order)
+    return time.perf_counter() - t0
+
+
+def _build_seconds(builds: Sequence[LinkBuild]) -> float:
+    """Meshing + reduction time [s], read from the cache side files when cached."""
+    total = 0.0
+    for lb in builds:
+        if lb.is_cached and lb.path is not None and lb.path.with_suffix(".json").is_file():
+            total += float(json.loads(lb.path.with_suffix(".json").read_text())["seconds"])
+        else:
+            total += lb.seconds
+    return total
+
+
+def _relative(a: FloatArray, b: FloatArray) -> FloatArray:
+    n = min(len(a), len(b))
+    return np.abs(np.asarray(a[:n]) / np.asarray(b[:n]) - 1.0)
+
+
+def run_variant(robot: Robot, q, ref: Reference, mesh_size: float, coupling: str,
+                n_modes: int, mesher: Mesher | None = None, cache: bool = True,
+                progress: Callable[[str], None] | None = None,
+                mesh_seconds: float = 0.0) -> StudyRow:
+    """Build, assemble and solve one variant and compare it with ``ref``.
+
+    ``coupling`` is ``"rbe2"``, ``"rbe3"`` or ``"k<N>"``; ``n_modes = 0`` is Guyan;
+    ``mesh_seconds`` is only recorded.
+    """
+    kind, k = parse_representation(coupling)
+    method = "guyan" if n_modes == 0 else "cb"
+    opts = BuildOptions(method, int(n_modes), kind if k is None else "rbe2", mesh_size)
+    if k is None:
+        builds = build_robot(robot, opts, cache, mesher, progress)
+    else:
+        builds = kmaster_builds(robot, opts, k, cache, mesher, progress)
+    t0 = time.perf_counter()
+    arm = flexible_arm(robot, opts, builds)
+    f = natural_frequencies(arm, q)[: len(ref.freq_hz)]
+    C = np.diag(tcp_compliance(arm, q))
+    dt = time.perf_counter() - t0
+    ef = _relative(f, ref.freq_hz)
+    ec = _relative(C, ref.C_diag)
+    label = "Guyan" if n_modes == 0 else f"CB({n_modes})"
+    return StudyRow(float(mesh_size), coupling, int(n_modes), label, int(arm.layout["n"]),
+                    int(sum(lb.n_fe_dofs for lb in builds)), float(ef.max()), float(ef.mean()),
+                    float(ec.max()), float(ec.mean()), _build_seconds(builds), dt,
+                    float(mesh_seconds), tuple(float(v) for v in f), tuple(float(v) for v in C))
+
+
+def verdict(rows: Sequence[StudyRow], levels=(0.01, 0.001)) -> str:
+    """Cheapest variant whose worst error is within each level (fractions).
+
+    Cheapest = fewest reduced DOF (the cost of every pose), then least build + solve
+    time (measured times are noisy on a shared machine; the DOF count is not).
+    """
+    lines = []
+    for lev in levels:
+        ok = sorted((r for r in rows if r.error <= lev), key=lambda r: (r.n_reduced, r.seconds))
+        if ok:
+            r = ok[0]
+            lines.append(f"within {100 * lev:g}%: {r.label} {r.coupling} at "
+                         f"{r.mesh_size * 1e3:.0f} mm ({r.n_reduced} DOF, f err "
+                         f"{100 * r.freq_err_max:.3g}%, C err {100 * r.C_err_max:.3g}%, "
+                         f"{r.seconds:.2f} s)")
+        else:
+            lines.append(f"within {100 * lev:g}%: none")
+    return "\n".join(lines)
+
+
+def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = None,
+              modes: Sequence[int] = (0, 5, 10, 20),
+              couplings: Sequence[str] = ("rbe2", "rbe3", "k4", "k8"), out_dir=None,
+              progress: Callable[[str], None] | None = None, n_freq: int = 10,
+              reference_coupling: str = "rbe2", mesher: Mesher | None = None,
+              cache: bool = True) -> StudyResult:
+    """Sweep the variants against the full-FE reference at the finest size.
+
+    Parameters
+    ----------
+    robot : Robot
+    pose : str
+        Pose name (``"P1"``) or ``"q1,...,qn"`` in degrees.
+    sizes : sequence of float, optional
+        Tet edge lengths [m]; default 1.5 x and 1 x the robot's ``mesh_size``.
+    modes : sequence of int
+        CB modes per link (0 = Guyan).
+    couplings : sequence of str
+        ``rbe2``, ``rbe3``, ``k<N>``.
+    out_dir : path, optional
+        Where CSV, PNGs and the verdict go (:func:`write_study`).
+    progress : callable (str) -> None, optional
+        One line per variant (and per built link).
+    reference_coupling : {"rbe2", "rbe3"}
+        Seat coupling of the full-FE reference.
+    mesher : callable, optional
+        As for :func:`~flexarm.assembly.build.build_robot` (tests).
+    """
+    from .robot import pose_from_string
+
+    say = progress or (lambda message: None)
+    q = pose_from_string(robot, pose)
+    if sizes is None:
+        h = robot.options.mesh_size
+        sizes = (1.5 * h, h)
+    sizes = sorted({float(s) for s in sizes}, reverse=True)
+    for c in couplings:
+        parse_representation(c)  # fail before any heavy work
+    ref = reference_result(robot, q, sizes[-1], reference_coupling, n_freq, mesher, cache, say)
+    quiet = None if progress is None else (lambda m: log.info(m))
+    rows = []
+    n_var = len(sizes) * len(modes) * len(couplings)
+    order = robot.options.element_order
+    for h in sizes:
+        say(f"meshing all links at {h * 1e3:.0f} mm (cached)")
+        t_mesh = _premesh(robot, h, order, mesher)
+        for c in couplings:
+            for n in modes:
+                r = run_variant(robot, q, ref, h, c, int(n), mesher, cache, quiet, t_mesh)
+                rows.append(r)
+                say(f"[{len(rows)}/{n_var}] {h * 1e3:.0f} mm {c} {r.label}: {r.n_reduced} DOF, "
+                    f"f err {100 * r.freq_err_max:.3g}%, C err {100 * r.C_err_max:.3g}% "
+                    f"(build {r.build_seconds:.1f} s, solve {r.solve_seconds * 1e3:.1f} ms)")
+    text = verdict(rows)
+    result = StudyResult(tuple(rows), ref, pose, text)
+    if out_dir is not None:
+        result = StudyResult(result.rows, ref, pose, text, write_study(result, out_dir))
+    return result
+
+
+def write_study(result: StudyResult, out_dir) -> tuple[Path, ...]:
+    """Write ``arm_study.csv``, the two PNGs and ``arm_study_verdict.txt`` to ``out_dir``."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "arm_study.csv"
+    with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
+        keys = [k for k in StudyRow.__dataclass_fields__ if k not in ("freq_hz", "C_diag")]
+        n_f = len(result.reference.freq_hz)
+        head = keys + [f"f{i + 1}_Hz" for i in range(n_f)] + [f"C{i + 1}{i + 1}" for i in range(6)]
+        w = csv.writer(fh)
+        w.writerow(head)
+        ref = result.reference
+        w.writerow([ref.mesh_size, ref.coupling, -1, "full-FE", ref.n_dofs, ref.n_dofs, 0, 0, 0,
+                    0, 0, ref.seconds, 0, *ref.freq_hz, *ref.C_diag])
+        for r in result.rows:
+            d = asdict(r)
+            fs = list(r.freq_hz) + [""] * (n_f - len(r.freq_hz))
+            w.writerow([d[k] for k in keys] + fs + list(r.C_diag))
+    txt = out / "arm_study_verdict.txt"
+    with atomic_path(txt) as tmp:
+        tmp.write_text(f"pose {result.pose}; reference: full FE {ref.n_dofs} DOF at "
+                       f"{ref.mesh_size * 1e3:.0f} mm ({ref.coupling}), "
+                       f"{ref.seconds:.1f} s\n{result.verdict}\n")
+    return (path, plot_error_vs_dof(out / "arm_study_error_vs_dof.png", result),
+            plot_pareto(out / "arm_study_pareto.png", result), txt)
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_error_vs_dof(path, result: StudyResult) -> Path:
+    """Log-log PNG: worst frequency / compliance error against reduced DOF (top) and
+    against link FE DOF (bottom); one line per mesh and representation (top) or per
+    representation and mode count (bottom)."""
+    plt = _pyplot()
+    rows = result.rows
+    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
+    sizes = sorted({r.mesh_size for r in rows}, reverse=True)
+    reps = list(dict.fromkeys(r.coupling for r in rows))
+    floor = 1e-9
+    for col, (attr, what) in enumerate((("freq_err_max", "first frequencies"),
+                                        ("C_err_max", "TCP compliance diagonal"))):
+        ax = axes[0, col]
+        for j, h in enumerate(sizes):
+            for i, rep in enumerate(reps):
+                sel = sorted((r for r in rows if r.mesh_size == h and r.coupling == rep),
+                             key=lambda r: r.n_reduced)
+                if sel:
+                    ax.loglog([r.n_reduced for r in sel],
+                              [max(getattr(r, attr), floor) for r in sel],
+                              ["-", "--", "-.", ":"][j % 4], marker="o", color=f"C{i}",
+                              label=f"{rep}, {h * 1e3:.0f} mm")
+        ax.set(xlabel="reduced arm DOF", ylabel=f"largest relative error, {what} (floor 1e-9)")
+        ax = axes[1, col]
+        for i, (rep, n) in enumerate(dict.fromkeys((r.coupling, r.n_modes) for r in rows)):
+            sel = sorted((r for r in rows if r.coupling == rep and r.n_modes == n),
+                         key=lambda r: r.n_fe_dofs)
+            ax.loglog([r.n_fe_dofs for r in sel], [max(getattr(r, attr), floor) for r in sel],
+                      "-", marker="s", color=f"C{reps.index(rep)}", alpha=0.4 + 0.6 * (i % 4) / 3,
+                      label=f"{rep} {sel[0].label}")
+        ax.set(xlabel="link FE DOF (3 x nodes)", ylabel=f"largest relative error, {what}")
+    from matplotlib.ticker import NullFormatter
+
+    for ax in axes.ravel():
+        ax.xaxis.set_minor_formatter(NullFormatter())  # narrow log ranges: no clutter
+        ax.axhline(0.01, color="grey", lw=0.8, ls=":")
+        ax.axhline(0.001, color="grey", lw=0.8, ls=":")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, ncol=2)
+    ref = result.reference
+    fig.suptitle(f"Arm accuracy at {result.pose} vs full FE ({ref.n_dofs} DOF, "
+                 f"{ref.mesh_size * 1e3:.0f} mm, {ref.coupling})")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return Path(path)
+
+
+def plot_pareto(path, result: StudyResult) -> Path:
+    """PNG: worst error against build + solve time, Pareto front drawn as a step line."""
+    plt = _pyplot()
+    rows = sorted(result.rows, key=lambda r: (r.seconds, r.error))
+    fig, ax = plt.subplots(figsize=(9, 6))
+    reps = list(dict.fromkeys(r.coupling for r in result.rows))
+    floor = 1e-9
+    for i, rep in enumerate(reps):
+        sel = [r for r in rows if r.coupling == rep]
+        ax.loglog([max(r.seconds, 1e-4) for r in sel], [max(r.error, floor) for r in sel], "o",
+                  color=f"C{i}", label=rep)
+    front, best = [], np.inf
+    for r in rows:
+        if r.error < best * (1 - 1e-6):  # strictly better (ties are not on the front)
+            best = r.error
+            front.append(r)
+    ax.step([max(r.seconds, 1e-4) for r in front], [max(r.error, floor) for r in front], "k-",
+            where="post", lw=1, label="Pareto front")
+    for r in front:
+        ax.annotate(f"{r.label} {r.coupling} {r.mesh_size * 1e3:.0f} mm", (max(r.seconds, 1e-4),
+                    max(r.error, floor)), fontsize=7, xytext=(4, 4), textcoords="offset points")
+    ax.axhline(0.01, color="grey", lw=0.8, ls=":")
+    ax.axhline(0.001, color="grey", lw=0.8, ls=":")
+    ax.set(xscale="log", yscale="log", xlabel="build + solve time [s]",
+           ylabel="max(frequency error, compliance error) [-]",
+           title=f"Arm study at {result.pose}: accuracy against cost")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return Path(path)

@@ -1,0 +1,130 @@
+"""Whole-arm accuracy study (issue 5 item 6) on the coarse box arm."""
+
+import csv
+
+import numpy as np
+import pytest
+
+from flexarm.assembly.study import (
+    parse_representation,
+    run_study,
+    tied_superelement,
+    verdict,
+)
+from flexarm.fe.material import MATERIALS
+from flexarm.fe.mesh import TetMesh
+from flexarm.reduction import reduce_part
+from flexarm.reduction.study import bar_link
+
+from .box_arm import BOXES
+
+SIZES = (0.1, 0.05)
+MODES = (0, 4, 12)
+COUPLINGS = ("rbe2", "k4")
+
+
+def sized_box_mesher(link, mesh_size, order):
+    """Structured box mesh with about ``mesh_size`` edges (halving it nests the grids)."""
+    size, lo, _ = BOXES[link.name]
+    div = tuple(max(2, int(round(s / mesh_size))) for s in size)
+    return TetMesh.box(size, div, order=order, origin=lo)
+
+
+@pytest.fixture(scope="module")
+def study(box_robot, tmp_path_factory):
+    out = tmp_path_factory.mktemp("study")
+    lines = []
+    res = run_study(box_robot, "P1", SIZES, MODES, COUPLINGS, out, progress=lines.append,
+                    mesher=sized_box_mesher)
+    return res, out, lines
+
+
+def _rows(res, size, coupling):
+    return sorted((r for r in res.rows if r.mesh_size == size and r.coupling == coupling),
+                  key=lambda r: r.n_modes)
+
+
+def test_parse_representation():
+    assert parse_representation("RBE3") == ("rbe3", None)
+    assert parse_representation("k8") == ("nodes", 8)
+    for bad in ("k2", "rbe4", "kx"):
+        with pytest.raises(ValueError, match="rbe2, rbe3 or k<N>"):
+            parse_representation(bad)
+
+
+def test_tied_all_nodes_equals_rbe2():
+    """All seat nodes tied rigidly to the centre is RBE2 (Guyan: exactly)."""
+    mesh, regions = bar_link(divisions=(6, 2, 2))
+    steel = MATERIALS["steel"]
+    rbe2 = reduce_part(mesh, steel, regions, "rbe2", "guyan", 0)
+    tied = tied_superelement(reduce_part(mesh, steel, regions, "nodes", "guyan", 0))
+    assert tied.dofs_per_node == 6 and tied.n_dofs == rbe2.n_dofs
+    np.testing.assert_allclose(tied.K, rbe2.K, rtol=1e-7, atol=1e-7 * np.abs(rbe2.K).max())
+    np.testing.assert_allclose(tied.M, rbe2.M, rtol=1e-7, atol=1e-7 * np.abs(rbe2.M).max())
+    q = np.linspace(-1e-4, 1e-4, rbe2.n_dofs)
+    np.testing.assert_allclose(tied.expand(q), rbe2.expand(q), atol=1e-9)
+
+
+def test_study_files(study):
+    res, out, lines = study
+    names = ["arm_study.csv", "arm_study_error_vs_dof.png", "arm_study_pareto.png",
+             "arm_study_verdict.txt"]
+    assert sorted(p.name for p in res.files) == sorted(names)
+    for n in names:
+        assert (out / n).stat().st_size > 0
+    with open(out / "arm_study.csv") as fh:
+        table = list(csv.DictReader(fh))
+    n_var = len(SIZES) * len(MODES) * len(COUPLINGS)
+    assert len(table) == n_var + 1 and table[0]["label"] == "full-FE"
+    assert float(table[0]["f1_Hz"]) == pytest.approx(res.reference.freq_hz[0])
+    assert len([s for s in lines if s.startswith("[")]) == n_var  # progress per variant
+    text = (out / "arm_study_verdict.txt").read_text()
+    assert "within 1%" in text and "within 0.1%" in text
+
+
+def test_study_numbers_are_physical(study):
+    res, _, _ = study
+    fine, coarse = min(SIZES), max(SIZES)
+    # same mesh and coupling as the reference: Rayleigh-Ritz from above, monotone in n
+    rows = _rows(res, fine, "rbe2")
+    errs = [r.freq_err_max for r in rows]
+    assert all(a >= b - 1e-12 for a, b in zip(errs, errs[1:], strict=False))
+    for r in rows:
+        assert np.all(np.asarray(r.freq_hz) >= res.reference.freq_hz * (1 - 1e-9))
+        assert r.C_err_max < 1e-8  # static condensation is exact at the interfaces
+    assert rows[-1].freq_err_max < 5e-3 and rows[0].freq_err_max > 10 * rows[-1].freq_err_max
+    for c in COUPLINGS:  # CB no worse than Guyan on its own mesh, coarse mesh worse
+        for h in SIZES:
+            g, *cb = _rows(res, h, c)
+            assert g.n_modes == 0 and all(r.n_reduced > g.n_reduced for r in cb)
+        assert _rows(res, coarse, c)[-1].C_err_max > _rows(res, fine, c)[-1].C_err_max
+    cb_coarse = _rows(res, coarse, "rbe2")
+    assert cb_coarse[-1].freq_err_max <= cb_coarse[0].freq_err_max
+    assert all(r.build_seconds >= 0 and r.solve_seconds > 0 for r in res.rows)
+
+
+def test_verdict_picks_cheapest(study):
+    res, _, _ = study
+    text = verdict(res.rows, levels=(0.01, 1e-12))
+    best = min((r for r in res.rows if r.error <= 0.01), key=lambda r: (r.n_reduced, r.seconds))
+    assert f"{best.label} {best.coupling}" in text.splitlines()[0]
+    assert text.splitlines()[1].endswith("none")
+
+
+def test_cli_study_arguments(monkeypatch, tmp_path):
+    """``flexarm study`` passes its lists through to :func:`run_study`."""
+    import flexarm.assembly.study as st
+    from flexarm.cli import main
+
+    seen = {}
+
+    def fake(robot, pose, sizes, modes, couplings, out, progress=None, **kw):
+        seen.update(pose=pose, sizes=sizes, modes=modes, couplings=couplings, out=out)
+        ref = st.Reference(np.ones(2), np.ones(6), 10, 0.03, "rbe2", 1.0)
+        return st.StudyResult((), ref, pose, "within 1%: none")
+
+    monkeypatch.setattr(st, "run_study", fake)
+    assert main(["study", "--pose", "P2", "--sizes", "0.06,0.03", "--modes", "0,5",
+                 "--couplings", "rbe2,k4", "-o", str(tmp_path)]) == 0
+    assert seen == {"pose": "P2", "sizes": [0.06, 0.03], "modes": [0, 5],
+                    "couplings": ["rbe2", "k4"], "out": str(tmp_path)}
