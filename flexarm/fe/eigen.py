@@ -102,6 +102,17 @@ def _normalise(omega2, vecs, M):
     return omega2, vecs * np.where(signs == 0, 1.0, signs)
 
 
+def _single_threaded_blas():
+    """Context limiting BLAS (OpenBLAS, MKL) to one thread; a no-op without threadpoolctl."""
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover - threadpoolctl is a declared dependency
+        import contextlib
+
+        return contextlib.nullcontext()
+    return threadpool_limits(1, user_api="blas")
+
+
 def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: int | None = None):
     """Eigensolver: ARPACK in shift-invert mode around ``sigma`` [rad^2/s^2].
 
@@ -127,10 +138,13 @@ def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: in
         v0 = np.random.default_rng(0).standard_normal(size)
         k_ncv = ncv or min(size - 1, max(2 * n + 1, 20))
         try:
-            w, v = spla.eigsh(
-                K, k=n, M=M, sigma=s, which="LM", OPinv=factor.as_operator(),
-                v0=v0, ncv=k_ncv, tol=tol.arpack,
-            )
+            # ARPACK's work is many BLAS-1/2 calls on long vectors: threads only contend
+            # (measured 5.6 s -> 0.7 s on 14.6k DOF, 20 modes, 2 cores).
+            with _single_threaded_blas():
+                w, v = spla.eigsh(
+                    K, k=n, M=M, sigma=s, which="LM", OPinv=factor.as_operator(),
+                    v0=v0, ncv=k_ncv, tol=tol.arpack,
+                )
         except spla.ArpackNoConvergence as exc:
             raise ConvergenceError(
                 f"ARPACK converged {len(exc.eigenvalues)} of {n} modes",

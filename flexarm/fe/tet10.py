@@ -28,6 +28,8 @@ class Tet10:
     """
 
     n_nodes = 10
+    #: curved (non-affine) elements: grad N ~ degree 1 over det J ~ degree 2 -> cubic
+    curved_stiffness_degree = 3
     stiffness_degree = 2
     mass_degree = 4
 

@@ -20,6 +20,8 @@ class Tet4:
 
     n_nodes = 4
     #: quadrature degree that integrates K and M exactly on straight elements
+    #: curved (non-affine) elements: grad N ~ degree 1 over det J ~ degree 2 -> cubic
+    curved_stiffness_degree = 1
     stiffness_degree = 1
     mass_degree = 2
 

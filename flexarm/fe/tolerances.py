@@ -27,6 +27,8 @@ class Tolerances:
     #: Plausible size of one robot part [m]: outside this, the units are probably wrong.
     part_size_min: float = 1e-3
     part_size_max: float = 20.0
+    #: SuperLU pivot below this fraction of the largest: the matrix counts as singular.
+    singular_pivot: float = 1e-12
     #: Geometric coincidence of points [m].
     point_merge: float = 1e-9
     #: CAD surfaces: smallest / largest principal extent below this counts as flat.
@@ -62,6 +64,10 @@ class Tolerances:
     plane_orthonormal: float = 1e-9
     #: Relative step above a candidate limit K_c b at which stability is re-checked.
     chatter_limit_probe: float = 1e-7
+    #: Arm eigenproblem: when lambda_min / lambda_max of ``K phi = lambda M phi`` falls
+    #: below this, the highest modes are taken from the Cholesky-of-M form as well (the
+    #: inverse form alone keeps them to ~eps / spread).
+    eig_spread: float = 1e-10
 
     # ----- validation / diagnosis (issue 6)
     #: Default standard uncertainty of a tracker reading [m] (Leica AT960 in the thesis).
@@ -91,6 +97,15 @@ class Tolerances:
     rigid_foundation: float = 1e13
     #: Largest plausible backlash / lost motion [rad].
     max_backlash: float = 5e-3
+    #: Relative standard uncertainty of a measured natural frequency [-] (modal tests).
+    freq_noise: float = 0.005
+    #: Largest plausible link compliance factor vs the CAD flexible model [-].
+    max_link_compliance: float = 5.0
+    #: A winner is only a proxy of an aliased candidate that gains more on the residual
+    #: when their unique signatures correlate above this [-] (then it is not accepted).
+    proxy_correlation: float = 0.5
+    #: Floor of a joint compliance scale factor during fits [-] (keeps stiffness > 0).
+    min_compliance_scale: float = 1e-6
 
 
 tol = Tolerances()
