@@ -1,5 +1,6 @@
-"""Contact applications: IK along RAPID paths, the loaded circle test (LDBB) and
-mode-coupling chatter (thesis §2.4.4, §3.4.2, §4.2, §4.4)."""
+"""Contact applications: IK along RAPID paths, the loaded circle test (LDBB) on the
+E-model or the flexible arm (with gravity and nonlinear joints) and mode-coupling
+chatter (thesis §2.4.4, §3.4.2, §4.2, §4.4)."""
 
 from .ball_bar import (
     CirclePrediction,
@@ -15,12 +16,18 @@ from .ball_bar import (
 )
 from .chatter import ChatterResult, PlaneModel, analyse, cnc_model, plane_model, simulate
 from .chatter_map import ChatterMap, chatter_map, critical_kcb, recommendation, worst_normal
+from .circle_data import static_circle_readings, synthetic_static_circle, write_circle_csv
+from .circle_models import MODELS, circle_arm, circle_joint_torques, nonlinear_solver
 from .ik_path import PathIK, ik_conf, ik_path, rapid_conf, tool_frame
+from .plane_batch import plane_axes_batched, plane_matrices
 
 __all__ = [
-    "ChatterMap", "ChatterResult", "CirclePrediction", "CircleSetup", "PathIK", "PlaneModel",
-    "analyse", "chatter_map", "circle_setup", "cnc_model", "critical_kcb", "default_pivot",
-    "ik_conf", "ik_path", "linear_solver", "load_point_compliance", "measured_deviation",
-    "plane_model", "predict_circle", "rapid_circle", "rapid_conf", "recommendation",
-    "simulate", "tool_frame", "weak_directions", "worst_normal",
+    "MODELS", "ChatterMap", "ChatterResult", "CirclePrediction", "CircleSetup", "PathIK",
+    "PlaneModel", "analyse", "chatter_map", "circle_arm", "circle_joint_torques",
+    "circle_setup", "cnc_model", "critical_kcb", "default_pivot", "ik_conf", "ik_path",
+    "linear_solver", "load_point_compliance", "measured_deviation", "nonlinear_solver",
+    "plane_axes_batched", "plane_matrices", "plane_model", "predict_circle", "rapid_circle",
+    "rapid_conf", "recommendation", "simulate", "static_circle_readings",
+    "synthetic_static_circle", "tool_frame", "weak_directions", "worst_normal",
+    "write_circle_csv",
 ]

@@ -11,7 +11,8 @@ The deviation of the load point is measured *relative to the unloaded run*:
 ``d(F) = s(F) - s(0)`` with ``s`` a static solver of the arm (so gravity sag and a
 nonlinear preload cancel at 0 N, which is zero by definition).  The default solver is
 linear (the TCP compliance at every IK pose, batched); a nonlinear solver with gravity
-plugs in through ``solver=`` (:data:`StaticSolver`).
+plugs in through ``solver=`` (:data:`StaticSolver`;
+:func:`~flexarm.assembly.contact.circle_models.nonlinear_solver`).
 
 Reported per path sample: ``bar`` (the ball-bar reading, ``d . u``, what an ISO 230-4
 polar plot shows), ``radial`` (in-plane radius change about the fitted circle centre;

@@ -18,7 +18,8 @@ import numpy as np
 from ...fe.tolerances import tol
 from ...fe.typing import ArrayLike, FloatArray
 from ..system import ArmModel
-from .chatter import char_poly, is_stable, plane_model, process_vectors
+from .chatter import char_poly, is_stable, process_vectors
+from .plane_batch import plane_matrices
 
 __all__ = ["critical_kcb", "worst_normal", "ChatterMap", "chatter_map", "recommendation"]
 
@@ -44,9 +45,16 @@ def _cubic_roots(c: FloatArray) -> FloatArray:
         comp[:, 0, :] = -m
         comp[:, 1, 0] = comp[:, 2, 1] = 1.0
         out[lead] = np.linalg.eigvals(comp)
-    for i in np.flatnonzero(~lead):  # degenerate leading term: lower degree
-        r = np.roots(flat[i])
-        out[i, :len(r)] = r
+    rest = np.flatnonzero(~lead)  # degenerate leading term: a quadratic (or linear)
+    if rest.size:
+        c1, c2, c3 = flat[rest, 1], flat[rest, 2], flat[rest, 3]
+        quad = np.abs(c1) > np.finfo(float).eps * np.abs(flat[rest]).max(axis=1)
+        comp = np.zeros((int(quad.sum()), 2, 2))
+        comp[:, 0, 0], comp[:, 0, 1] = -c2[quad] / c1[quad], -c3[quad] / c1[quad]
+        comp[:, 1, 0] = 1.0
+        out[rest[quad], :2] = np.linalg.eigvals(comp)
+        lin = ~quad & (c2 != 0)
+        out[rest[lin], 0] = -c3[lin] / c2[lin]
     return out.reshape(c.shape[:-1] + (3,))
 
 
@@ -157,8 +165,9 @@ def chatter_map(arm: ArmModel, q_fixed: ArrayLike, q2: ArrayLike, q3: ArrayLike,
     ``normal_deg`` None: the worst surface orientation in the plane (:func:`worst_normal`).
     ``axes`` (2, 3): a fixed machining plane in the base frame; None: the plane normal
     to the tool axis at each pose.  The 2-DOF structures come from
-    :func:`~flexarm.assembly.contact.chatter.plane_model` (one modal solve per pose); the
-    stability limits are computed for all poses at once.
+    :func:`~flexarm.assembly.contact.chatter.plane_model`, computed for all poses at once
+    (:func:`~flexarm.assembly.contact.plane_batch.plane_matrices`: one batched assembly
+    and eigen-solve), and so are the stability limits.
     """
     q2 = np.asarray(q2, dtype=float)
     q3 = np.asarray(q3, dtype=float)
@@ -174,10 +183,10 @@ def chatter_map(arm: ArmModel, q_fixed: ArrayLike, q2: ArrayLike, q3: ArrayLike,
     log.info("chatter map: %d poses", G2.size)
     MCK = np.tile(np.eye(2), G2.shape + (3, 1, 1))
     kw = np.full(G2.shape, np.nan)
-    for idx in zip(*np.nonzero(ok), strict=True):
-        pm = plane_model(arm, Q[idx], axes)
-        MCK[idx] = np.stack([pm.M, pm.C, pm.K])
-        kw[idx] = np.linalg.eigvalsh(pm.K)[0]
+    if ok.any():
+        M, C, K, _ = plane_matrices(arm, Q[ok], axes)
+        MCK[ok] = np.stack([M, C, K], axis=1)
+        kw[ok] = np.linalg.eigvalsh(K)[:, 0]
     M, C, K = MCK[..., 0, :, :], MCK[..., 1, :, :], MCK[..., 2, :, :]
     if normal_deg is None:
         kc, nd = worst_normal(M, C, K, dir_deg)

@@ -29,75 +29,107 @@ def _save(fig, path) -> Path:
     return path
 
 
-def plot_circle_top(pred: CirclePrediction, path, scale: float | None = None) -> Path:
+def _runs(pred: CirclePrediction, label: str, compare) -> list:
+    """``[(label, prediction, line style)]``: the main model solid, the others dashed."""
+    styles = ("--", ":", "-.")
+    return [(label, pred, "-")] + [(lab, p, styles[i % 3])
+                                   for i, (lab, p) in enumerate(compare)]
+
+
+def _colour(i: int):
+    return f"C{i % 10}"
+
+
+def plot_circle_top(pred: CirclePrediction, path, scale: float | None = None,
+                    label: str = "", compare=()) -> Path:
     """Top view (base x-y) of the nominal path and the loaded paths, deviation exaggerated.
 
     ``scale`` multiplies the deviation (default: the largest deviation drawn as 20 %
-    of the radius).
+    of the radius).  ``compare`` = ``[(label, CirclePrediction)]`` of other models on
+    the same setup and loads, drawn dashed in the same colours; ``label`` names ``pred``.
     """
     plt = _plt()
     s = pred.setup
-    dmax = np.abs(pred.deviation).max()
+    runs = _runs(pred, label, compare)
+    dmax = max(np.abs(p.deviation).max() for _l, p, _s in runs)
     k = scale if scale is not None else (0.2 * s.radius / dmax if dmax > 0 else 1.0)
     fig, ax = plt.subplots(figsize=(6, 6))
     P = s.points * 1e3
     ax.plot(P[:, 0], P[:, 1], "k--", lw=1, label="nominal")
-    for F, d in zip(pred.loads, pred.deviation, strict=True):
-        if F > 0:
-            Q = P + k * d * 1e3
-            ax.plot(Q[:, 0], Q[:, 1], label=f"{F:.0f} N")
+    for lab, p, ls in runs:
+        for i, (F, d) in enumerate(zip(p.loads, p.deviation, strict=True)):
+            if F > 0:
+                Q = P + k * d * 1e3
+                ax.plot(Q[:, 0], Q[:, 1], ls, color=_colour(i), label=f"{lab} {F:.0f} N".strip())
     ax.plot(*(s.pivot[:2] * 1e3), "k+", ms=12, label="pivot")
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_title(f"{s.name}: top view, deviation x{k:.0f} ({'pull' if pred.is_pull else 'push'})")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7)
     return _save(fig, path)
 
 
-def plot_circle_polar(pred: CirclePrediction, path, measured=None) -> Path:
+def plot_circle_polar(pred: CirclePrediction, path, measured=None, label: str = "",
+                      compare=()) -> Path:
     """ISO 230-4-style polar plot of the ball-bar reading (bar-length change) [um].
 
     The radius axis is ``offset + deviation`` so that negative values stay visible;
     ``measured`` = (angle [rad], bar [m], normal [m], force [N]) from
-    :func:`~flexarm.assembly.contact.ball_bar.measured_deviation`, drawn as dots.
+    :func:`~flexarm.assembly.contact.ball_bar.measured_deviation`, drawn as dots
+    (coloured by force).  ``compare`` as in :func:`plot_circle_top`.
     """
     plt = _plt()
     s = pred.setup
-    bar = pred.bar * 1e6
-    span = max(np.abs(bar).max(), 1.0)
+    runs = _runs(pred, label, compare)
+    span = max(max(np.abs(p.bar).max() for _l, p, _s in runs) * 1e6, 1.0)
     if measured is not None:
         span = max(span, np.abs(measured[1]).max() * 1e6)
     off = 1.5 * span
-    fig = plt.figure(figsize=(6, 6))
+    fig = plt.figure(figsize=(6.5, 6.5))
     ax = fig.add_subplot(projection="polar")
     a = s.angles
-    for F, b in zip(pred.loads, bar, strict=True):
-        ax.plot(a, off + b, label=f"{F:.0f} N")
+    for lab, p, ls in runs:
+        for i, (F, b) in enumerate(zip(p.loads, p.bar * 1e6, strict=True)):
+            ax.plot(a, off + b, ls, color=_colour(i), label=f"{lab} {F:.0f} N".strip())
     if measured is not None:
-        ax.plot(measured[0], off + measured[1] * 1e6, ".", ms=3, label="measured")
+        _measured_dots(ax, pred, measured[0], off + measured[1] * 1e6, measured[3])
     ax.set_ylim(0, off + span * 1.1)
     ax.set_yticks([off - span, off, off + span])
     ax.set_yticklabels([f"{-span:.0f}", "0", f"+{span:.0f}"])
     ax.set_title(f"{s.name}: ball-bar length deviation [um] (R = {s.radius * 1e3:.1f} mm)")
-    ax.legend(loc="lower right", fontsize=8)
+    ax.legend(loc="lower right", fontsize=7, bbox_to_anchor=(1.15, -0.1))
     return _save(fig, path)
 
 
-def plot_circle_z(pred: CirclePrediction, path, measured=None) -> Path:
+def _measured_dots(ax, pred: CirclePrediction, x, y, force) -> None:
+    """Measured points, in the colour of the nearest predicted load level."""
+    force = np.asarray(force, dtype=float)
+    for F in np.unique(force):
+        i = int(np.argmin(np.abs(pred.loads - F)))
+        sel = force == F
+        ax.plot(np.asarray(x)[sel], np.asarray(y)[sel], "o", ms=3, mfc="none",
+                color=_colour(i) if np.isclose(pred.loads[i], F) else "k",
+                label=f"measured {F:.0f} N")
+
+
+def plot_circle_z(pred: CirclePrediction, path, measured=None, label: str = "",
+                  compare=()) -> Path:
     """Deviation along the circle normal (base z for horizontal circles) vs polar angle."""
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 4))
-    a = np.degrees(pred.setup.angles)
-    for F, z in zip(pred.loads, pred.normal, strict=True):
-        ax.plot(a, z * 1e3, ".", ms=2, label=f"{F:.0f} N")
+    order = np.argsort(pred.setup.angles)  # the path starts anywhere: plot by angle
+    a = np.degrees(pred.setup.angles)[order]
+    for lab, p, ls in _runs(pred, label, compare):
+        for i, (F, z) in enumerate(zip(p.loads, p.normal[:, order], strict=True)):
+            ax.plot(a, z * 1e3, ls, color=_colour(i), lw=1, label=f"{lab} {F:.0f} N".strip())
     if measured is not None:
-        ax.plot(np.degrees(measured[0]), measured[2] * 1e3, "k.", ms=2, label="measured")
+        _measured_dots(ax, pred, np.degrees(measured[0]), measured[2] * 1e3, measured[3])
     ax.set_xlabel("polar angle [deg]")
     ax.set_ylabel("deviation along circle normal [mm]")
     ax.set_title(f"{pred.setup.name}: out-of-plane deviation")
     ax.grid(True)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7)
     return _save(fig, path)
 
 

@@ -51,3 +51,28 @@ def test_map_and_recommendation(arm, robot):
     assert best[2] >= np.nanmax(np.where(fin, cm.kcb, -np.inf))
     text = recommendation(cm)
     assert "weak Y" in text and "stiff configurations" in text
+
+
+def test_batched_plane_matrices_equal_the_per_pose_model(robot, arm):
+    from flexarm.assembly.contact.chatter import plane_model
+    from flexarm.assembly.contact.plane_batch import plane_matrices
+
+    rng = np.random.default_rng(3)
+    Q = robot.lower + (robot.upper - robot.lower) * rng.random((12, 6))
+    M, C, K, P = plane_matrices(arm, Q.reshape(3, 4, 6), chunk=5)
+    assert M.shape == (3, 4, 2, 2) and P.shape == (3, 4, 2, 3)
+    for i, q in enumerate(Q):
+        pm = plane_model(arm, q)
+        for A, B in ((pm.M, M.reshape(-1, 2, 2)[i]), (pm.C, C.reshape(-1, 2, 2)[i]),
+                     (pm.K, K.reshape(-1, 2, 2)[i]), (pm.axes, P.reshape(-1, 2, 3)[i])):
+            np.testing.assert_allclose(B, A, rtol=1e-9, atol=1e-12 * np.abs(A).max())
+
+
+def test_cubic_roots_degenerate_leading_term():
+    from flexarm.assembly.contact.chatter_map import _cubic_roots
+
+    c = np.array([[0.0, 1.0, -3.0, 2.0], [0.0, 0.0, 2.0, -4.0], [1.0, -6.0, 11.0, -6.0]])
+    r = _cubic_roots(c)
+    assert np.allclose(np.sort(r[0, :2].real), [1, 2]) and np.isnan(r[0, 2])
+    assert np.isclose(r[1, 0].real, 2.0) and np.isnan(r[1, 1:]).all()
+    assert np.allclose(np.sort(r[2].real), [1, 2, 3])

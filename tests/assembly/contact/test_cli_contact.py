@@ -15,3 +15,25 @@ def test_circle_chatter_and_map_commands(tmp_path, capsys):
     for name in ("circle_Path_30.csv", "circle_top.png", "circle_polar.png", "circle_z.png",
                  "chatter_time.png", "chatter_orbit.png", "chatter_map.csv", "chatter_map.png"):
         assert (out / name).stat().st_size > 0
+
+
+def test_circle_flexible_nonlinear_and_static_overlay(tmp_path, capsys, flex_arm, robot):
+    from importlib.resources import files
+
+    from flexarm.validation.effects import Effect
+    from flexarm.validation.history import write_robot
+
+    toml = write_robot(tmp_path / "robot.toml", robot, [Effect("backlash", 2, (("width", 2e-4),))])
+    example = files("flexarm") / "data" / "examples" / "circle_static_example.csv"
+    out = tmp_path / "o"
+    assert main(["circle", "--robot", str(toml), "--model", "cb", "--mesh-size", "0.06",
+                 "--modes", "10", "--compare-models", "--loads", "0,400,800", "--step", "10",
+                 "--measured", str(example), "-o", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "E-model (nonlinear_solver, laws on joints 3)" in text
+    assert "CB (nonlinear_solver, laws on joints 3)" in text
+    assert "measured: 73 readings at [0.0, 400.0, 800.0] N" in text
+    head = (out / "circle_Path_30.csv").read_text().splitlines()[0]
+    assert "bar_mm_E-model_800N" in head and "bar_mm_CB_800N" in head
+    for name in ("circle_top.png", "circle_polar.png", "circle_z.png"):
+        assert (out / name).stat().st_size > 0
