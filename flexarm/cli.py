@@ -791,6 +791,8 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
     p.add_argument("--dirs", default="x,y,z", help="load directions, e.g. x,y,z,-z")
     p.add_argument("--cycles", action="store_true", help="load then unload each series")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--ref-noise", default="0um", help="extra error of each series' reference "
+                   "reading, e.g. 45um (tracker re-lock; stated in the sigma column)")
     p.add_argument("--modal", default=None, help="also write natural frequencies to this CSV")
     p.add_argument("--n-modes", type=int, default=4, help="modes per pose in --modal")
     p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
@@ -800,10 +802,9 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
 @command("lab", "virtual lab: static series from the model + hidden effects + tracker noise",
          _add_lab)
 def _run_lab(args) -> int:
+    from .validation import write_modal
     from .validation.effects import parse_effect
     from .validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab, write_lab
-
-    from .validation import write_modal
     from .validation.modal import virtual_modal
 
     robot, arm, base_effects = _validation_arm(args)
@@ -813,9 +814,10 @@ def _run_lab(args) -> int:
     arm, flexible = _flexible_models(args, robot, arm)
     plan = LabPlan({p: robot.pose(p) for p in args.poses.split(",")}, parse_loads(args.loads),
                    parse_dirs(args.dirs), args.cycles)
-    data = virtual_lab(arm, plan, effects, noise, args.seed, flexible)
+    ref_noise = _parse_noise(args.ref_noise)
+    data = virtual_lab(arm, plan, effects, noise, args.seed, flexible, ref_noise)
     truth = {"effects": [e.to_dict() for e in effects], "noise_m": noise, "seed": args.seed,
-             "robot": args.robot or "demo"}
+             "robot": args.robot or "demo", "ref_noise_m": ref_noise}
     if flexible is not None:
         truth["flexible_mesh_m"] = args.flex_mesh
     if args.modal:
@@ -869,10 +871,8 @@ def _compare_dynamic(args, data) -> int:
 @command("compare", "model predictions vs static measurements: errors, chi2_red, plots",
          _add_compare)
 def _run_compare(args) -> int:
-    from .validation import read_measurements
+    from .validation import FrfData, ModalData, read_measurements
     from .validation.compare import compare_static, write_report
-
-    from .validation import FrfData, ModalData
 
     data = read_measurements(args.data)
     if isinstance(data, (ModalData, FrfData)):
@@ -901,6 +901,9 @@ def _add_diagnose(p: argparse.ArgumentParser) -> None:
                    "effects and fitted parameters (-o)")
     p.add_argument("-o", "--output", default=None, help="robot TOML for --apply")
     p.add_argument("--report", default=None, help="folder for the history CSV/JSON/PNG")
+    p.add_argument("--noise-model", default="shared", choices=["shared", "independent"],
+                   help="shared reference reading (GLS, default) or independent rows (only "
+                   "to show the shared-reference trap)")
     p.add_argument("--modal", default=None, help="measured natural frequencies CSV (joins the "
                    "fits; implies --flexible)")
     p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
@@ -923,7 +926,7 @@ def _run_diagnose(args) -> int:
     modal = None if args.modal is None else read_measurements(args.modal)
     args.flexible = args.flexible or modal is not None
     arm, flexible = _flexible_models(args, robot, arm)
-    dg = diagnose(arm, data, args.noise * 1e-6, poses=robot.poses, modal=modal,
+    dg = diagnose(arm, data, args.noise * 1e-6, args.noise_model, poses=robot.poses, modal=modal,
                   flexible=flexible, freq_noise=args.freq_noise / 100)
     sv = dg.identifiability["singular_values"]
     _print(f"identifiability: condition {dg.identifiability['condition']:.3g}, singular "

@@ -50,7 +50,9 @@ class Candidate:
 
     @property
     def label(self) -> str:
-        return self.kind if self.joint is None else f"joint {self.joint + 1} {self.kind}"
+        if self.joint is None:
+            return {"links": "link flexibility"}.get(self.kind, self.kind)
+        return f"joint {self.joint + 1} {self.kind}"
 
     @property
     def n_params(self) -> int:
@@ -85,18 +87,20 @@ def library(problem: Problem) -> list[Candidate]:
     out.append(Candidate("base", None, ("compliance",), (TYPICAL["compliance_base"],)))
     if n >= 6:
         out.append(Candidate("wrist", None, ("c45", "c46", "c56"), (TYPICAL["wrist"],) * 3))
+    if getattr(problem, "flexible", None) is not None:
+        out.append(Candidate("links", None, ("compliance",), (1.0,)))
     return out
 
 
 def signature(problem: Problem, effects, cand: Candidate, grid_value: float) -> np.ndarray:
-    """(n, 3, k) change of the predictions per unit amplitude (finite difference)."""
-    base = list(effects) + [cand.effect(grid_value)]
-    f0 = problem.predict(base)
+    """(m, k) whitened change of every observation per unit amplitude (finite difference
+    over the typical size; for ``links`` exactly flexible minus E-model prediction)."""
+    f0 = problem.wpredict(list(effects) + [cand.effect(grid_value)])
     cols = []
     for a, size in enumerate(cand.sizes):
         amps = np.zeros(len(cand.amplitudes))
         amps[a] = size
-        f1 = problem.predict(list(effects) + [cand.effect(grid_value, amps)])
+        f1 = problem.wpredict(list(effects) + [cand.effect(grid_value, amps)])
         cols.append((f1 - f0) / size)
     return np.stack(cols, axis=-1)
 
@@ -124,7 +128,7 @@ def screen(problem: Problem, fit: FitResult, cand: Candidate) -> Screen:
         Q = U[:, sv > sv.max() * 1e-8] if sv.max() > 0 else Q
     best = None
     for g in cand.grid:
-        S = problem.whiten(signature(problem, fit.effects, cand, g))
+        S = signature(problem, fit.effects, cand, g)
         St = S * np.asarray(cand.sizes)
         norm = float(np.linalg.norm(St))
         R = St - Q @ (Q.T @ St)
@@ -161,7 +165,6 @@ def load_proposal(problem: Problem, joint: int, kind: str, max_load: float | Non
     ``extra_poses`` (e.g. the robot's named poses) are tried.  Hysteresis needs load/unload
     cycles in the direction that loads the joint most.
     """
-    from ..assembly.statics import joint_moments
 
     arm = problem.arm
     F_max = max_load or max(800.0, float(np.abs(problem.data.force).max()))

@@ -48,7 +48,8 @@ class Comparison:
 
 
 def compare_static(arm: ArmModel, data: StaticData, effects=(),
-                   sigma: float = tol.tracker_sigma) -> Comparison:
+                   sigma: float = tol.tracker_sigma, flexible: ArmModel | None = None
+                   ) -> Comparison:
     """Compare ``arm`` (plus ``effects``) with static ``data``.
 
     Examples
@@ -58,7 +59,7 @@ def compare_static(arm: ArmModel, data: StaticData, effects=(),
     >>> d = StaticData(series=["a"] * 3, steps=[0, 1, 2], q=np.zeros((3, 6)),
     ...                force=np.zeros((3, 3)), disp=np.zeros((3, 3)))
     """
-    pb = Problem(arm, data, sigma)
+    pb = Problem(arm, data, sigma, flexible=flexible)
     pred = pb.predict(list(effects))
     r = pb.whiten(data.disp - pred)
     chi2_red = float(r @ r / max(pb.n_obs, 1))

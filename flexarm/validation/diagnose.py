@@ -21,7 +21,8 @@ from ..fe.tolerances import tol
 from .candidates import Screen, library, load_proposal, screen, status_of
 from .explain import explain, static_notes
 from .fit import Problem, baseline_effects, chi2_band, fit_model, heldout_rms
-from .measurements import StaticData
+from .measurements import ModalData, StaticData
+from .modal import ModalProblem
 
 __all__ = ["CandidateReport", "Step", "Diagnosis", "diagnose"]
 
@@ -111,6 +112,8 @@ def leave_one_pose_out(problem: Problem, effects, free, scales, prior) -> dict:
 
 
 def _plausible(kind: str, theta: np.ndarray) -> bool:
+    if kind == "links":
+        return bool(np.all(theta > 0) and np.all(theta < tol.max_link_compliance))
     if kind == "wrist":
         return True
     if kind in ("backlash", "hysteresis"):
@@ -120,15 +123,22 @@ def _plausible(kind: str, theta: np.ndarray) -> bool:
 
 def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
              noise_model: str = "shared", max_effects: int = 3,
-             heldout: bool = True, poses: dict | None = None) -> Diagnosis:
+             heldout: bool = True, poses: dict | None = None,
+             modal: ModalData | None = None, flexible: ArmModel | None = None,
+             freq_noise: float = tol.freq_noise) -> Diagnosis:
     """Diagnose which effects the model ``arm`` misses in the static ``data``.
 
     ``poses`` (name -> q [rad], e.g. ``robot.poses``) widen the search for load proposals.
+    ``modal`` (measured natural frequencies, relative noise ``freq_noise``) joins the
+    static data in every fit; ``flexible`` (the robot's flexible model) adds the
+    link-flexibility candidate (:mod:`~flexarm.validation.linkflex`).
     Returns a :class:`Diagnosis`; ``accepted`` holds the accepted effects with fitted
     parameters, ``final_effects`` the full fitted model (baseline scales included).
     """
-    log.info("diagnosis of %d readings", len(data.series))
-    problem = Problem(arm, data, sigma, noise_model)
+    log.info("diagnosis of %d readings%s", len(data.series),
+             "" if modal is None else f" and {len(modal.freq_hz)} frequencies")
+    problem = (Problem(arm, data, sigma, noise_model, flexible) if modal is None else
+               ModalProblem(arm, data, sigma, noise_model, flexible, modal, freq_noise))
     effects, free = baseline_effects(arm)
     scales = np.ones(len(free))
     prior = {f: (1.0, tol.baseline_prior_sd) for f in free}
@@ -148,7 +158,7 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
         done = {e.kind + (f"_j{e.joint + 1}" if e.joint is not None else "") for e in accepted}
         screens = [screen(problem, fr, c) for c in cands if c.name not in done]
         testable = sorted((s for s in screens if status_of(s) is None), key=lambda s: -s.dbic)
-        reports, winner, ok, text = [], None, False, ""
+        reports, winner, ok, text, proxies = [], None, False, "", []
         if testable:
             best: Screen = testable[0]
             c = best.candidate
@@ -162,6 +172,10 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
                       "heldout": bool(new_ho < tol.heldout_gain * cur_ho) if heldout else True,
                       "plausible": _plausible(c.kind, theta),
                       "interval": bool(excl.any() if c.kind == "wrist" else excl.all())}
+            proxies = [s for s in screens if status_of(s) == "aliased" and s.dchi2 > best.dchi2
+                       and _corr(s.columns, best.columns) > tol.proxy_correlation]
+            if proxies:
+                checks["distinct"] = False
             ok = all(checks.values())
             winner = {"name": c.name, "label": c.label, "dbic": float(dbic),
                       "params": {a: (float(t), float(s)) for a, t, s in
@@ -184,8 +198,16 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
                                                               extra_poses=poses)
                           if c.kind in ("backlash", "hysteresis") else
                           "the data barely load it: add poses/loads that do")
+            elif st == "aliased" and c.kind == "links":
+                detail = _links_note(problem, fr, s, "aliased")
             elif st == "aliased":
                 detail = _mimic(problem, fr, s)
+            elif winner and c.name == winner["name"] and proxies:
+                p = max(proxies, key=lambda x: x.dchi2)
+                st = "aliased"
+                detail = (f"with {p.candidate.label} (a proxy: their unique signatures correlate "
+                          f"{_corr(p.columns, s.columns):.2f} and {p.candidate.label} explains "
+                          f"more, dchi2 {p.dchi2:.0f} vs {s.dchi2:.0f})")
             elif winner and c.name == winner["name"]:
                 st = "accepted" if ok else "rejected"
                 detail = "" if ok else "failed: " + ", ".join(k for k, v in
@@ -196,6 +218,8 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
                     st, detail = "aliased", f"with {winner['label']} (same pattern on this data)"
             if c.kind == "base":
                 detail = (detail + "; " if detail else "") + _base_note(screens)
+            if c.kind == "links" and st in ("rejected", "untestable"):
+                detail = (detail + "; " if detail else "") + _links_note(problem, fr, s, st)
             reports.append(CandidateReport(c.name, c.label, st, s.dbic, s.unique, s.norm, detail))
         order = {"accepted": 0, "rejected": 1, "aliased": 2, "untestable": 3}
         reports.sort(key=lambda r: (order[r.status], -r.dbic))
@@ -214,7 +238,7 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
                           else np.nan))
     log.info("diagnosis done: %d effects accepted", len(accepted))
     return Diagnosis(tuple(steps), ident, tuple(accepted), tuple(steps[-1].effects),
-                     static_notes(arm))
+                     static_notes(arm, links_tested=flexible is not None))
 
 
 def _refit(problem: Problem, fr, free, scales, prior, best: Screen):
@@ -226,7 +250,7 @@ def _refit(problem: Problem, fr, free, scales, prior, best: Screen):
     from .candidates import signature
 
     c = best.candidate
-    S = problem.whiten(signature(problem, fr.effects, c, best.grid_value)) * np.asarray(c.sizes)
+    S = signature(problem, fr.effects, c, best.grid_value) * np.asarray(c.sizes)
     keep = [a for a, n in zip(c.amplitudes, np.linalg.norm(S, axis=0), strict=True)
             if n >= tol.untestable_norm] or list(c.amplitudes[:1])
     i = len(fr.effects)
@@ -257,13 +281,25 @@ def _mimic(problem: Problem, fit, s: Screen) -> str:
     X = fit.sensitivity
     from .candidates import signature
 
-    sig = problem.whiten(signature(problem, fit.effects, s.candidate, s.grid_value))[:, 0]
+    sig = signature(problem, fit.effects, s.candidate, s.grid_value)[:, 0]
     c = np.abs(X.T @ sig) / np.maximum(np.linalg.norm(X, axis=0) * np.linalg.norm(sig), 1e-300)
     k = int(np.argmax(c)) if c.size else 0
     i, name = fit.free[k]
     e = fit.effects[i]
     what = "torsion compliance" if e.kind == "stiffness" else f"{e.kind} {name}"
     return f"with {e.label.replace(' stiffness', '')} {what} (corr {c[k]:.2f})"
+
+
+def _links_note(problem: Problem, fit, s: Screen, status: str) -> str:
+    """Why link flexibility is (not) seen, and what data would show it."""
+    has_modal = isinstance(problem, ModalProblem)
+    text = (f"with the joint compliances: only {s.unique:.1%} of its signature (flexible minus "
+            f"E-model, norm {s.norm:.0f} sigma) is not mimicked by them; best single match: "
+            f"{_mimic(problem, fit, s)[5:]}") if status == "aliased" else (
+            f"unique part of its signature {s.unique:.1%} gives dBIC {s.dbic:.1f}")
+    if not has_modal:
+        text += "; undetectable from TCP-only static data: add modal data (--modal)"
+    return text
 
 
 def _base_note(screens) -> str:

@@ -12,6 +12,7 @@ kind              parameters                                  model
 ``tilt``          ``compliance`` [rad/(N m)]                  bearing tilt in series
 ``base``          ``compliance`` [rad/(N m)]                  foundation tilt about x, y
 ``wrist``         ``c45``, ``c46``, ``c56`` [rad/(N m)]       coupled wrist compliance
+``links``         ``compliance`` [-]                          link flexibility (``linkflex``)
 ================  ==========================================  ============================
 
 :func:`apply_effects` turns an :class:`~flexarm.assembly.system.ArmModel` plus effects
@@ -20,7 +21,8 @@ reads the command-line form ``backlash:j2=0.1mrad``, ``hardening:j1=0.5,t=400Nm`
 (``K1/K2 = 0.5`` below 400 N m), ``hysteresis:j2=0.1mrad,r=300Nm``, ``tilt:j2=1e7``
 (added tilt stiffness [N m/rad]), ``base:k=2e7`` (foundation tilt stiffness [N m/rad]),
 ``wrist:c45=0.5,c56=0.3`` (correlations of the wrist compliances), ``stiffness:j3=1.3``
-(torsion *stiffness* x 1.3).
+(torsion *stiffness* x 1.3), ``links:c=1`` (the flexible model's links; needs the flexible
+model, see :mod:`~flexarm.validation.linkflex`; :func:`apply_effects` leaves it to the caller).
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ from ..fe.tolerances import tol
 
 __all__ = ["Effect", "apply_effects", "parse_effect", "wrist_compliance", "KINDS"]
 
-KINDS = ("stiffness", "backlash", "hardening", "hysteresis", "tilt", "base", "wrist")
+KINDS = ("stiffness", "backlash", "hardening", "hysteresis", "tilt", "base", "wrist", "links")
 _UNITS = {"": 1.0, "rad": 1.0, "mrad": 1e-3, "urad": 1e-6, "nm": 1.0, "knm": 1e3,
           "nm/rad": 1.0, "deg": np.pi / 180}
 
@@ -135,6 +137,8 @@ def parse_effect(spec: str, n_joints: int = 6) -> Effect:
                          if kind == "hardening" else ()))
     if kind == "base":
         return Effect(kind, None, (("stiffness", _value(items.get("k", "2e7"))),))
+    if kind == "links":
+        return Effect(kind, None, (("compliance", _value(items.get("c", "1"))),))
     if kind == "wrist":
         return Effect(kind, None, tuple((f"rho{k[1:]}", _value(v)) for k, v in items.items()
                                         if k in ("c45", "c46", "c56")))
@@ -193,7 +197,7 @@ def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
     for e in (resolve(e, arm) for e in effects):
         j = e.joint
         if e.kind == "stiffness":
-            s = e.get("scale")
+            s = max(e.get("scale"), tol.min_compliance_scale)  # a fit may probe s <= 0
             joints[j] = replace(joints[j], torsion=joints[j].torsion / s)
             if j >= n - 3:
                 k = j - (n - 3)
@@ -206,11 +210,14 @@ def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
         elif e.kind == "hysteresis":
             laws.setdefault(j, []).append(_signed(Hysteresis, e.get("lost"), e.get("radius")))
         elif e.kind == "tilt":
-            c = 1.0 / joints[j].tilt + e.get("compliance")
-            joints[j] = replace(joints[j], tilt=1.0 / c if c > 0 else np.inf)
+            jt = joints[j]
+            c1, c2 = (1.0 / jt.tilt + e.get("compliance"), 1.0 / jt.tilt_2 + e.get("compliance"))
+            ok = c1 > 0 and c2 > 0  # a negative total compliance (during a fit) -> rigid
+            joints[j] = replace(jt, tilt=1.0 / c1 if ok else np.inf,
+                                tilt2=None if jt.tilt2 is None else (1.0 / c2 if ok else np.inf))
         elif e.kind == "base":
             c = e.get("compliance")
-            if c == 0:
+            if c <= 0:  # no foundation spring of negative compliance (a fit may probe one)
                 continue
             Kf = np.diag([tol.rigid_foundation] * 3 + [1 / c, 1 / c, tol.rigid_foundation])
             foundation = Kf if foundation is None else np.linalg.inv(
@@ -221,6 +228,7 @@ def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
                 Cw[a, b] += v
                 Cw[b, a] += v
             wrist_changed = True
+        # "links" changes the bodies: linkflex.links_arm, applied by the caller
     wrist = np.linalg.inv(Cw) if wrist_changed else None
     new = replace(arm, joints=tuple(joints), foundation=foundation, wrist_stiffness=wrist)
     new.__dict__.pop("_layout", None)

@@ -50,13 +50,19 @@ def explain(problem, cand, effect, theta, se) -> str:
                 f"by the moment of the load about the base")
     if cand.kind == "wrist":
         names = [k for k, v in effect.params if v != 0] or list(cand.amplitudes)
-        vals = ", ".join(f"{a} = {t:.3g} ± {s:.2g}" for a, t, s in zip(names, theta, se))
+        vals = ", ".join(f"{a} = {t:.3g} ± {s:.2g}"
+                         for a, t, s in zip(names, theta, se, strict=False))
         return (f"coupled wrist: joints 4-6 share compliance ({vals} rad/(N m)): a torque on "
                 f"one wrist joint also turns the others")
+    if cand.kind == "links":
+        return (f"link flexibility: the links are {theta[0]:.2f} ± {se[0]:.2f} times as "
+                f"compliant as the CAD flexible model: with the joint compliances fitted to "
+                f"the statics, the rigid-link model cannot also match the natural "
+                f"frequencies")
     return f"{cand.label}: {theta}"
 
 
-def static_notes(arm: ArmModel) -> tuple[str, ...]:
+def static_notes(arm: ArmModel, links_tested: bool = False) -> tuple[str, ...]:
     """Effects of the library that relative static TCP data cannot test, and why."""
     flexible = any(not b.is_rigid for b in arm.bodies)
     notes = [
@@ -70,8 +76,9 @@ def static_notes(arm: ArmModel) -> tuple[str, ...]:
     ]
     if flexible:
         notes.append("link flexibility: part of this model (flexible links)")
-    else:
+    elif not links_tested:
         notes.append("link flexibility: aliased/undetectable from TCP-only static data "
                       "(link bending scales with the same loads as the joint compliances); "
-                      "add modal data and compare with the flexible model")
+                      "not tested here: give the flexible model (diagnose --flexible) and "
+                      "modal data (--modal)")
     return tuple(notes)

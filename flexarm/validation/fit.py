@@ -30,6 +30,7 @@ from ..assembly.statics import joint_moments, series_starts
 from ..assembly.system import ArmModel
 from ..fe.tolerances import tol
 from .effects import Effect, apply_effects
+from .linkflex import links_arm, split_links
 from .measurements import StaticData
 
 __all__ = ["Problem", "FitResult", "fit_model", "baseline_effects", "chi2_band"]
@@ -47,13 +48,17 @@ class Problem:
     sigma : float
         Tracker standard uncertainty [m] used when the file has no ``sigma`` column.
     noise_model : {"shared", "independent"}
+    flexible : ArmModel, optional
+        The flexible model of the same robot, for the ``links`` effect
+        (:mod:`~flexarm.validation.linkflex`).
     """
 
     def __init__(self, arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
-                 noise_model: str = "shared"):
+                 noise_model: str = "shared", flexible: ArmModel | None = None):
         if noise_model not in ("shared", "independent"):
             raise ValueError(f"noise_model must be 'shared' or 'independent', got {noise_model}")
         self.arm, self.data, self.noise_model = arm, data, noise_model
+        self.flexible = flexible
         n = len(data.series)
         self.ref = series_starts(data.series)
         self.is_ref = self.ref == np.arange(n)
@@ -85,9 +90,14 @@ class Problem:
         extra = extra - extra[self.ref]
         return self.J[:, :, joint] * extra[:, None]
 
+    def model(self, effects):
+        """The arm with ``effects`` (links first) and its nonlinear laws per joint."""
+        c, rest = split_links(effects)
+        return apply_effects(links_arm(self.arm, self.flexible, c), rest)
+
     def predict(self, effects) -> np.ndarray:
         """(n, 3) relative TCP deflections [m] of the arm with ``effects``."""
-        arm, laws = apply_effects(self.arm, effects)
+        arm, laws = self.model(effects)
         C = tcp_compliance(arm, self.uq)[self.pose_index, :3, :]
         u = np.einsum("nij,nj->ni", C, self.dw)
         for j, js in laws.items():
@@ -118,6 +128,14 @@ class Problem:
             keep = keep & rows
         Z = Z[keep]
         return Z.reshape((-1,) + A.shape[2:])
+
+    def wpredict(self, effects, rows: np.ndarray | None = None) -> np.ndarray:
+        """(m,) whitened predictions of every observation (``whiten(predict)``)."""
+        return self.whiten(self.predict(effects), rows)
+
+    def wy(self, rows: np.ndarray | None = None) -> np.ndarray:
+        """(m,) whitened measurements, the counterpart of :meth:`wpredict`."""
+        return self.whiten(self.y, rows)
 
     def n_obs_rows(self, rows: np.ndarray | None = None) -> int:
         keep = ~self.is_ref if rows is None else (~self.is_ref & rows)
@@ -196,16 +214,15 @@ def fit_model(problem: Problem, effects, free, scales, prior=None, rows=None,
     sd = np.array([prior.get(f, (0.0, np.inf))[1] for f in free])
     P = np.where(np.isfinite(sd), 1 / np.where(np.isfinite(sd), sd, 1) ** 2, 0.0)
     for _ in range(iterations):
-        f0 = problem.predict(_set(effects, free, theta))
+        f0 = problem.wpredict(_set(effects, free, theta), rows)
         cols = []
         for k in range(len(free)):
-            h = tol.fd_step * scales[k] if abs(theta[k]) < scales[k] else tol.fd_step * abs(theta[k])
+            h = tol.fd_step * max(scales[k], abs(theta[k]))
             t = theta.copy()
             t[k] += h
-            cols.append((problem.predict(_set(effects, free, t)) - f0) / h)
-        S = np.stack(cols, axis=-1) if cols else np.zeros(f0.shape + (0,))
-        X = problem.whiten(S, rows)
-        r = problem.whiten(problem.y - f0, rows)
+            cols.append((problem.wpredict(_set(effects, free, t), rows) - f0) / h)
+        X = np.stack(cols, axis=-1) if cols else np.zeros(f0.shape + (0,))
+        r = problem.wy(rows) - f0
         # normal equations in scaled variables, with the prior
         D = scales
         A = (X * D).T @ (X * D) + np.diag(P * D**2)
@@ -215,7 +232,7 @@ def fit_model(problem: Problem, effects, free, scales, prior=None, rows=None,
         if np.all(np.abs(step) <= 1e-6 * np.maximum(np.abs(theta), scales)):
             break
     final = _set(effects, free, theta)
-    res = problem.whiten(problem.y - problem.predict(final), rows)
+    res = problem.wy(rows) - problem.wpredict(final, rows)
     A = (X * D).T @ (X * D) + np.diag(P * D**2)
     Ainv = np.linalg.pinv(A, rcond=1e-12)
     cov = D[:, None] * Ainv * D[None, :]

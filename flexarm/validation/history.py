@@ -1,7 +1,8 @@
 """Model versions: write the updated robot file, the error history and its plot.
 
 Linear effects go into the robot TOML through the standard writer (torsion, tilt,
-foundation spring, wrist stiffness).  Nonlinear joint laws go into an optional
+foundation spring, wrist stiffness; link flexibility ``c`` as the links' Young's
+modulus ``E / c``, used by the flexible model).  Nonlinear joint laws go into an optional
 top-level ``[nonlinear.<joint name>]`` table that the core reader ignores and
 :func:`read_robot_effects` reads back (keys: ``backlash_rad``; ``hardening_extra_rad_per_Nm``
 + ``hardening_threshold_Nm``; ``hysteresis_lost_rad`` + ``hysteresis_radius_Nm``).
@@ -11,11 +12,11 @@ from __future__ import annotations
 
 import csv
 import json
-import tomllib
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import tomllib
 
 from ..assembly.robot import BaseSupport, Robot
 from ..assembly.system import ArmModel
@@ -39,7 +40,13 @@ def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> tuple[Robot, lis
                            robot.base.damping_ratio)
     wrist = None if new.wrist_stiffness is None else tuple(
         map(tuple, np.asarray(new.wrist_stiffness).tolist()))
-    return replace(robot, joints=joints, base=base, wrist_stiffness=wrist), nonlinear
+    links = robot.links
+    c = sum(e.get("compliance") for e in effects if e.kind == "links")
+    if c > 0:  # link flexibility: the flexible model with Young's modulus E / c
+        links = tuple(replace(lk, material=replace(lk.material, E=lk.material.E / c))
+                      for lk in robot.links)
+    return replace(robot, joints=joints, base=base, wrist_stiffness=wrist,
+                   links=links), nonlinear
 
 
 def write_robot(path, robot: Robot, nonlinear=()) -> Path:

@@ -23,6 +23,7 @@ from ..assembly.system import ArmModel
 from ..fe.files import atomic_path
 from .effects import Effect, apply_effects
 from .formats import write_static
+from .linkflex import links_arm, split_links
 from .measurements import StaticData
 
 __all__ = ["LabPlan", "parse_dirs", "parse_loads", "virtual_lab", "write_lab"]
@@ -82,31 +83,44 @@ class LabPlan:
 
 
 def virtual_lab(arm: ArmModel, plan: LabPlan, effects: list[Effect] = (), noise: float = 15e-6,
-                seed: int = 0) -> StaticData:
+                seed: int = 0, flexible: ArmModel | None = None,
+                ref_noise: float = 0.0) -> StaticData:
     """Measured-like static data of ``arm`` with hidden ``effects`` and tracker ``noise`` [m].
+
+    ``ref_noise`` [m] adds an extra error to each series' reference reading only (the
+    tracker re-locked on the reflector, or a reference averaged over a shorter window);
+    it is shared by every row of the series, like the reference's ordinary noise.
+
+    A ``links`` effect (link flexibility) needs ``flexible``, the robot's flexible model.
 
     Examples
     --------
-    >>> from flexarm.assembly.examples import two_link_arm
-    >>> arm = two_link_arm()
-    >>> plan = LabPlan({"A": np.array([0.0, 0.3])}, np.array([0.0, 100.0]),
-    ...                parse_dirs("z"))
+    >>> from flexarm.assembly.emodel import emodel
+    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> robot = load_demo_robot()
+    >>> arm = emodel(robot, method="surface")
+    >>> plan = LabPlan({"P1": robot.pose("P1")}, np.array([0.0, 100.0]), parse_dirs("z"))
     >>> virtual_lab(arm, plan, noise=0.0).disp.shape
     (2, 3)
     """
     series, steps, q, force = plan.rows()
-    truth, laws = apply_effects(arm, effects)
+    c, rest = split_links(effects)
+    truth, laws = apply_effects(links_arm(arm, flexible, c), rest)
     u = relative_deflection(truth, q, force, None, series, laws)
     rng = np.random.default_rng(seed)
     e = noise * rng.standard_normal(u.shape)
     labels = np.array(series)
     ref = np.flatnonzero(np.r_[True, labels[1:] != labels[:-1]])
     start = ref[np.cumsum(np.r_[True, labels[1:] != labels[:-1]]) - 1]
+    if ref_noise > 0:
+        e[ref] += ref_noise * rng.standard_normal((len(ref), 3))
     disp = u + e - e[start]
     disp[ref] = 0.0
+    sigma = np.full(len(u), noise)
+    sigma[ref] = np.hypot(noise, ref_noise)  # the file states the reference's uncertainty
     log.info("virtual lab: %d readings in %d series, %d effects", len(u), len(ref), len(effects))
     return StaticData(series=series, steps=steps, q=q, force=force, disp=disp,
-                      sigma=np.full(len(u), noise) if noise > 0 else None)
+                      sigma=sigma if noise > 0 else None)
 
 
 def write_lab(path, data: StaticData, truth: dict) -> tuple[Path, Path]:

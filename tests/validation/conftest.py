@@ -10,6 +10,8 @@ from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab
 
 #: Truth stiffness errors of the lab arm vs the model given to diagnose (±30 %).
 PERTURB = (1.3, 0.7, 1.3, 0.7, 1.3, 0.7)
+#: Coarse mesh [m] of the flexible model in the link-flexibility tests.
+FLEX_MESH = 0.06
 
 @pytest.fixture(scope="session")
 def demo():
@@ -24,13 +26,32 @@ def lab(demo):
     robot, arm = demo
 
     def make(effects=(), poses=("P1", "P2", "P3"), dirs="x,y,z,-x,-y,-z", cycles=False,
-             seed=1, noise=15e-6, perturb=PERTURB):
-        plan = LabPlan({p: robot.pose(p) for p in poses}, parse_loads("0:800:100"),
+             seed=1, noise=15e-6, perturb=PERTURB, model=None, flexible=None,
+             loads="0:800:100", ref_noise=0.0):
+        plan = LabPlan({p: robot.pose(p) for p in poses}, parse_loads(loads),
                        parse_dirs(dirs), cycles)
         pert = [parse_effect(f"stiffness:j{j + 1}={s}") for j, s in enumerate(perturb)]
-        return virtual_lab(arm, plan, pert + [parse_effect(e) for e in effects], noise, seed)
+        return virtual_lab(arm if model is None else model, plan,
+                           pert + [parse_effect(e) for e in effects], noise, seed, flexible,
+                           ref_noise)
 
     return make
+
+
+@pytest.fixture(scope="session")
+def flex(demo):
+    """(E-model, flexible model) of the demo arm on a coarse mesh (superelement cache).
+
+    Both use the same tet meshes for the link masses, so the flexible model's rigid
+    limit is exactly this E-model.
+    """
+    from flexarm.assembly.build import BuildOptions
+    from flexarm.assembly.emodel import emodel
+    from flexarm.assembly.flexible import flexible_arm
+
+    robot = demo[0]
+    return (emodel(robot, method="tets", mesh_size=FLEX_MESH),
+            flexible_arm(robot, BuildOptions(mesh_size=FLEX_MESH, n_modes=4)))
 
 def covers(value: float, sd: float, truth: float, z: float = 2.58) -> bool:
     return abs(value - truth) <= z * sd + 1e-15

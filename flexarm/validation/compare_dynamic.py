@@ -1,0 +1,187 @@
+"""Predictions vs modal and FRF measurements: frequency-error tables, bars and overlays.
+
+* Modal: per pose and mode the measured and model natural frequencies, the error in Hz
+  and in percent, chi^2_red with the relative frequency noise
+  (``tol.freq_noise``, no fitted parameters: dof = number of frequencies) and the RMS
+  relative error; a bar chart of the percent error per pose and mode.
+* FRF: the model receptance at every measured line (modal superposition with the
+  model's modal damping) and, per pose and input/output pair, the RMS of
+  ``log10 |H_meas / H_model|`` and the error of the largest peak's frequency; overlays
+  of magnitude and phase.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..assembly.analyses import frf
+from ..assembly.system import ArmModel
+from ..fe.tolerances import tol
+from .effects import apply_effects
+from .fit import chi2_band
+from .linkflex import links_arm, split_links
+from .measurements import FrfData, ModalData
+from .modal import model_frequencies
+
+__all__ = ["ModalComparison", "FrfComparison", "compare_modal", "compare_frf",
+           "write_modal_report", "write_frf_report"]
+
+
+def _model(arm: ArmModel, effects, flexible):
+    c, rest = split_links(effects)
+    return apply_effects(links_arm(arm, flexible, c), rest)[0]
+
+
+@dataclass(frozen=True)
+class ModalComparison:
+    """Result of :func:`compare_modal`: ``table`` rows (pose, mode, measured_hz,
+    model_hz, error_hz, error_pct), ``chi2_red`` and its ``band``, ``rms_pct``."""
+
+    predicted: np.ndarray
+    table: list
+    chi2_red: float
+    band: tuple
+    rms_pct: float
+
+
+def compare_modal(arm: ArmModel, data: ModalData, effects=(), freq_noise: float = tol.freq_noise,
+                  flexible: ArmModel | None = None) -> ModalComparison:
+    """Compare the natural frequencies of ``arm`` (plus ``effects``) with ``data``.
+
+    Examples
+    --------
+    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.assembly.emodel import emodel
+    >>> robot = load_demo_robot()
+    >>> arm = emodel(robot, method="surface")
+    >>> q = robot.pose("P1")
+    >>> m = ModalData(poses=["P1"], q=[q], modes=[1], freq_hz=[8.0])
+    >>> cmp = compare_modal(arm, m)
+    >>> len(cmp.table), cmp.table[0]["mode"]
+    (1, 1)
+    """
+    f_model = model_frequencies(_model(arm, effects, flexible), data)
+    f_meas = np.asarray(data.freq_hz, float)
+    err = f_model - f_meas
+    rel = err / f_meas
+    rows = [{"pose": str(p), "mode": int(m), "measured_hz": float(a), "model_hz": float(b),
+             "error_hz": float(e), "error_pct": float(100 * r)}
+            for p, m, a, b, e, r in zip(data.poses, data.modes, f_meas, f_model, err, rel,
+                                        strict=True)]
+    z = rel / freq_noise
+    n = max(len(z), 1)
+    return ModalComparison(f_model, rows, float(z @ z / n), chi2_band(n),
+                           float(100 * np.sqrt(np.mean(rel**2))) if rel.size else 0.0)
+
+
+@dataclass(frozen=True)
+class FrfComparison:
+    """Result of :func:`compare_frf`: the model receptance per row and a table per pose
+    and input/output pair (rms_log10_mag, peak_meas_hz, peak_model_hz, peak_error_pct)."""
+
+    data: FrfData
+    predicted: np.ndarray
+    table: list
+
+
+def _groups(data: FrfData) -> dict:
+    keys = [f"{p}:{i}{o}" for p, i, o in zip(data.poses, data.inputs, data.outputs, strict=True)]
+    out: dict = {}
+    for k, key in enumerate(keys):
+        out.setdefault(key, []).append(k)
+    return {key: np.asarray(v) for key, v in out.items()}
+
+
+def compare_frf(arm: ArmModel, data: FrfData, effects=(),
+                flexible: ArmModel | None = None) -> FrfComparison:
+    """Model receptances at the measured lines of ``data`` and the per-pair errors."""
+    model = _model(arm, effects, flexible)
+    H = np.zeros(len(data.freq_hz), complex)
+    for rows in _groups(data).values():
+        Hk = frf(model, data.q[rows[0]][: model.chain.n_joints], data.freq_hz[rows])
+        H[rows] = Hk[:, data.output_axes[rows[0]], data.input_axes[rows[0]]]
+    table = []
+    for key, rows in _groups(data).items():
+        meas, pred, f = data.receptance[rows], H[rows], data.freq_hz[rows]
+        ok = (np.abs(meas) > 0) & (np.abs(pred) > 0)
+        lr = np.log10(np.abs(meas[ok]) / np.abs(pred[ok]))
+        fm, fp = f[np.argmax(np.abs(meas))], f[np.argmax(np.abs(pred))]
+        pose, io = key.split(":")
+        table.append({"pose": pose, "input": io[0], "output": io[1],
+                      "rms_log10_mag": float(np.sqrt(np.mean(lr**2))) if lr.size else 0.0,
+                      "peak_meas_hz": float(fm), "peak_model_hz": float(fp),
+                      "peak_error_pct": float(100 * (fp - fm) / fm) if fm > 0 else 0.0})
+    return FrfComparison(data, H, table)
+
+
+def _write_csv(path: Path, rows: list) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+
+
+def write_modal_report(folder, cmp: ModalComparison) -> list[Path]:
+    """``modal_errors.csv`` and ``frequency_errors.png`` (bars per pose and mode)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    out = [folder / "modal_errors.csv", folder / "frequency_errors.png"]
+    _write_csv(out[0], cmp.table)
+    poses = list(dict.fromkeys(r["pose"] for r in cmp.table))
+    modes = sorted({r["mode"] for r in cmp.table})
+    width = 0.8 / max(len(modes), 1)
+    fig, ax = plt.subplots(figsize=(1.2 + 1.4 * len(poses), 3))
+    for k, m in enumerate(modes):
+        vals = [next((r["error_pct"] for r in cmp.table if r["pose"] == p and r["mode"] == m),
+                     np.nan) for p in poses]
+        ax.bar(np.arange(len(poses)) + (k - (len(modes) - 1) / 2) * width, vals, width,
+               label=f"mode {m}", color=f"C{k}")
+    ax.axhline(0, color="k", lw=0.6)
+    ax.set_xticks(np.arange(len(poses)), poses)
+    ax.set_ylabel("model - measured [%]")
+    ax.set_title(f"natural frequency error (chi2_red {cmp.chi2_red:.2f})", fontsize=9)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out[1], dpi=90)
+    plt.close(fig)
+    return out
+
+
+def write_frf_report(folder, cmp: FrfComparison) -> list[Path]:
+    """``frf_errors.csv`` and ``frf_overlay.png`` (magnitude and phase per pair)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    out = [folder / "frf_errors.csv", folder / "frf_overlay.png"]
+    _write_csv(out[0], cmp.table)
+    groups = _groups(cmp.data)
+    n = len(groups)
+    fig, axes = plt.subplots(2, n, figsize=(3.2 * n, 4.6), squeeze=False, sharex="col")
+    for c, (key, rows) in enumerate(groups.items()):
+        f = cmp.data.freq_hz[rows]
+        for H, style, lab in ((cmp.data.receptance[rows], "o", "measured"),
+                              (cmp.predicted[rows], "-", "model")):
+            axes[0, c].semilogy(f, np.abs(H), style, ms=2.5, label=lab)
+            axes[1, c].plot(f, np.degrees(np.angle(H)), style, ms=2.5)
+        axes[0, c].set_title(key, fontsize=8)
+        axes[1, c].set_xlabel("frequency [Hz]", fontsize=8)
+    axes[0, 0].set_ylabel("|H| [m/N]")
+    axes[1, 0].set_ylabel("phase [deg]")
+    axes[0, 0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out[1], dpi=90)
+    plt.close(fig)
+    return out

@@ -1,0 +1,79 @@
+"""Scenario 7: link flexibility is aliased in TCP-only static data, found with modal data."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from flexarm.fe.tolerances import tol
+from flexarm.validation.diagnose import diagnose
+from flexarm.validation.effects import parse_effect
+from flexarm.validation.history import robot_with_effects
+from flexarm.validation.linkflex import links_arm
+from flexarm.validation.modal import ModalProblem, virtual_modal
+
+from .conftest import PERTURB
+from .test_diagnose import SIGMA, _found, _status
+
+HIDDEN = ["links:c=1"]
+
+
+def _truth(demo, flex, seed=1):
+    robot = demo[0]
+    eff = ([parse_effect(f"stiffness:j{j + 1}={s}") for j, s in enumerate(PERTURB)]
+           + [parse_effect(e) for e in HIDDEN])
+    poses = {p: robot.pose(p) for p in ("P1", "P2", "P3")}
+    return virtual_modal(flex[0], poses, eff, n_modes=4, freq_noise=tol.freq_noise, seed=seed,
+                         flexible=flex[1])
+
+
+def test_links_arm_limits(flex):
+    """c -> 0 is the E-model; c = 1 is the flexible model (softer, lower frequencies)."""
+    from flexarm.assembly.analyses import natural_frequencies, tcp_compliance
+
+    ea, fa = flex
+    q = np.zeros(6) + [0, -0.5, 0.8, 0, 0.6, 0]
+    C0 = tcp_compliance(ea, q)[:3, :3]
+    C_small = tcp_compliance(links_arm(ea, fa, 1e-6), q)[:3, :3]
+    C1 = tcp_compliance(links_arm(ea, fa, 1.0), q)[:3, :3]
+    assert np.allclose(C_small, C0, rtol=1e-4, atol=1e-12)
+    assert np.all(np.diag(C1) > np.diag(C0))
+    f0 = natural_frequencies(ea, q)[:4]
+    f1 = natural_frequencies(links_arm(ea, fa, 1.0), q)[:4]
+    assert np.all(f1 < f0)
+
+
+def test_7_link_flexibility_static_aliased_modal_found(demo, flex, lab):
+    ea, fa = flex
+    data = lab(HIDDEN, model=ea, flexible=fa)
+    static = diagnose(ea, data, SIGMA, flexible=fa, heldout=False, max_effects=0)
+    links = _status(static.steps[0], "links")
+    assert links.status == "aliased" and links.unique < tol.alias_share, links
+    assert "joint compliances" in links.detail and "add modal data" in links.detail
+    assert not static.accepted  # no proxy (joint-3 tilt) is accepted for it either
+
+    modal = _truth(demo, flex)
+    dg = diagnose(ea, data, SIGMA, flexible=fa, modal=modal)
+    step = _found(dg, "links", "compliance", 1.0)
+    assert "natural frequencies" in step.explanation
+    pb = ModalProblem(ea, data, SIGMA, flexible=fa, modal=modal)
+    assert pb.modal_chi2(dg.final_effects) < 3 * len(modal.freq_hz)
+    new, _ = robot_with_effects(demo[0], ea, dg.final_effects)  # --apply: E / c
+    c = next(e.get("compliance") for e in dg.final_effects if e.kind == "links")
+    assert np.isclose(new.links[2].material.E, demo[0].links[2].material.E / c)
+
+
+@pytest.mark.slow
+def test_cli_lab_modal_diagnose_links(tmp_path, flex, capsys):
+    """flexarm lab --effect links:c=1 --modal m.csv; diagnose s.csv [--flexible | --modal m.csv]."""
+    from flexarm.cli import main
+
+    s, m = tmp_path / "s.csv", tmp_path / "m.csv"
+    pert = [a for j, k in enumerate(PERTURB) for a in ("--effect", f"stiffness:j{j + 1}={k}")]
+    assert main(["lab", "--effect", "links:c=1", *pert, "--dirs", "x,y,z,-x,-y,-z",
+                 "--modal", str(m), "--seed", "1", "-o", str(s)]) == 0
+    assert main(["diagnose", str(s), "--flexible"]) == 0
+    out = capsys.readouterr().out
+    assert "add modal data" in out and "ACCEPTED" not in out
+    assert main(["diagnose", str(s), "--modal", str(m)]) == 0
+    assert "ACCEPTED: link flexibility" in capsys.readouterr().out
