@@ -1,22 +1,8 @@
-"""Fixtures for the assembly tests: a session cache dir and the demo arm."""
+"""Fixtures for the assembly tests: the demo arm (the cache folder is tests/conftest.py's)."""
 
 from __future__ import annotations
 
-import os
-
 import pytest
-
-
-@pytest.fixture(scope="session", autouse=True)
-def _session_cache(tmp_path_factory):
-    """Keep tet meshes and mass properties out of the user's cache (computed once per run)."""
-    old = os.environ.get("FLEXARM_CACHE")
-    os.environ["FLEXARM_CACHE"] = str(tmp_path_factory.mktemp("flexarm_cache"))
-    yield
-    if old is None:
-        os.environ.pop("FLEXARM_CACHE", None)
-    else:
-        os.environ["FLEXARM_CACHE"] = old
 
 
 @pytest.fixture(scope="session")
