@@ -13,8 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..fe.tolerances import tol
 from ..fe.typing import ArrayLike, FloatArray
-from .system import ArmModel, is_rigid_arm, rigid_tcp_map, rotation_blocks, system_matrices
+from .batched import constant_stiffness, fast_tcp_compliance, has_constant_stiffness, mass_matrix
+from .system import ArmModel, rotation_blocks, system_matrices
 
 __all__ = [
     "Modes",
@@ -35,21 +37,76 @@ log = logging.getLogger(__name__)
 GRAVITY = np.array([0.0, 0.0, -9.80665])
 
 
-def _generalized_eigh(K: FloatArray, M: FloatArray):
-    """Batched ``K phi = lambda M phi`` with mass-normalised ``phi`` (Cholesky of M)."""
-    L = np.linalg.cholesky(M)
-    Linv = np.linalg.inv(L)
+def _mass_form_eigh(K: FloatArray, M: FloatArray, vectors: bool):
+    """Batched ``K phi = lambda M phi`` via Cholesky of ``M`` (accurate for high modes)."""
+    Linv = np.linalg.inv(np.linalg.cholesky(M))
     A = Linv @ K @ np.swapaxes(Linv, -1, -2)
     A = 0.5 * (A + np.swapaxes(A, -1, -2))
+    if not vectors:
+        return np.linalg.eigvalsh(A), None
     lam, Y = np.linalg.eigh(A)
     return lam, np.swapaxes(Linv, -1, -2) @ Y
 
 
-def natural_frequencies(arm: ArmModel, q: ArrayLike) -> FloatArray:
-    """(..., n_x) natural frequencies [Hz], ascending (*batched*)."""
-    sm = system_matrices(arm, q)
-    lam, _ = _generalized_eigh(sm.K, sm.M)
-    return np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+def _generalized_eigh(K: FloatArray, M: FloatArray, vectors: bool = True):
+    """Batched ``K phi = lambda M phi``: ascending ``lambda`` and mass-normalised ``phi``.
+
+    ``K`` (n, n) or (..., n, n), ``M`` (..., n, n).  When ``K`` is positive definite the
+    problem is solved in inverse form, ``L^-1 M L^-T y = mu y`` with ``K = L L^T`` and
+    ``lambda = 1 / mu``: the *lowest* modes are then the largest ``mu`` and keep full
+    relative accuracy even when ``K`` spans many decades (links with E x 1e6: the
+    Cholesky-of-M form loses ``eps lambda_max / lambda_1`` there, ~4e-4).  If the
+    spread ``lambda_1 / lambda_n`` is below ``tol.eig_spread`` the modes above the
+    geometric mean of the spectrum are taken from the Cholesky-of-M form, which is
+    accurate for them.  A singular ``K`` (free base) uses the Cholesky-of-M form.
+    A constant ``K`` (2-D) is factored once for all poses.
+    """
+    try:
+        L = np.linalg.cholesky(K)
+    except np.linalg.LinAlgError:
+        return _mass_form_eigh(K, M, vectors)
+    Linv = np.linalg.inv(L)
+    A = Linv @ M @ np.swapaxes(Linv, -1, -2)
+    A = 0.5 * (A + np.swapaxes(A, -1, -2))
+    if vectors:
+        mu, Y = np.linalg.eigh(A)
+        mu, Y = mu[..., ::-1], Y[..., ::-1]
+    else:
+        mu, Y = np.linalg.eigvalsh(A)[..., ::-1], None
+    tiny = np.finfo(float).tiny
+    lam = 1.0 / np.maximum(mu, tiny)
+    Phi = None
+    if vectors:
+        Phi = (np.swapaxes(Linv, -1, -2) @ Y) / np.sqrt(np.maximum(mu, tiny))[..., None, :]
+    if np.all(mu[..., -1] >= tol.eig_spread * mu[..., 0]):
+        return lam, Phi
+    lam_m, Phi_m = _mass_form_eigh(np.broadcast_to(K, M.shape), M, vectors)
+    high = lam > np.sqrt(lam[..., :1] * lam_m[..., -1:])
+    lam = np.where(high, lam_m, lam)
+    if vectors:
+        Phi = np.where(high[..., None, :], Phi_m, Phi)
+    return lam, Phi
+
+
+def natural_frequencies(arm: ArmModel, q: ArrayLike, chunk: int = 50) -> FloatArray:
+    """(..., n_x) natural frequencies [Hz], ascending (*batched*).
+
+    Arms with a pose-independent ``K`` (rigid or floating-frame flexible links, see
+    :mod:`~flexarm.assembly.batched`) factor ``K`` once and assemble only ``M(q)``,
+    ``chunk`` poses at a time (bounds memory and keeps the batches in cache).
+    """
+    q = np.asarray(q, dtype=float)
+    if not has_constant_stiffness(arm):
+        sm = system_matrices(arm, q)
+        lam, _ = _generalized_eigh(sm.K, sm.M, vectors=False)
+        return np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)
+    K = constant_stiffness(arm)
+    flat = q.reshape(-1, q.shape[-1])
+    lam = np.zeros((len(flat), K.shape[0]))
+    for s in range(0, len(flat), chunk):
+        lam[s : s + chunk] = _generalized_eigh(K, mass_matrix(arm, flat[s : s + chunk]),
+                                               vectors=False)[0]
+    return (np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)).reshape(q.shape[:-1] + (-1,))
 
 
 @dataclass(frozen=True)
@@ -122,15 +179,12 @@ def tcp_compliance(arm: ArmModel, q: ArrayLike) -> FloatArray:
 
     Units: [m/N] for the translational block, [rad/(N m)] for the rotational one.
     """
-    if is_rigid_arm(arm):
-        # rigid links: K is the pose-independent spring matrix, C = G K^-1 G^T
-        G = rigid_tcp_map(arm, q)
-        Kinv = np.linalg.inv(arm.spring_stiffness())
-        C = np.einsum("...ix,xy,...jy->...ij", G, Kinv, G, optimize=True)
-    else:
-        sm = system_matrices(arm, q)
-        G = sm.G_tcp
-        C = G @ np.linalg.solve(sm.K, np.swapaxes(G, -1, -2))
+    if has_constant_stiffness(arm):
+        # K does not depend on the pose: K^-1 once, only the TCP map per pose
+        return fast_tcp_compliance(arm, q)
+    sm = system_matrices(arm, q)
+    G = sm.G_tcp
+    C = G @ np.linalg.solve(sm.K, np.swapaxes(G, -1, -2))
     return 0.5 * (C + np.swapaxes(C, -1, -2))
 
 

@@ -84,8 +84,23 @@ def total_mass(robot: Robot, method: str = "tets", mesh_size: float = 0.04) -> f
     return sum(link_mass_properties(lk, method, mesh_size).mass for lk in robot.links)
 
 
-def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04) -> ArmModel:
+def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04,
+           equivalent: bool = True) -> ArmModel:
     """The rigid-link E-model :class:`ArmModel` of ``robot``.
+
+    Parameters
+    ----------
+    robot : Robot
+    method : {"tets", "surface"}
+        Mass properties of the links, see :func:`link_mass_properties`.
+    mesh_size : float
+        Tet edge length [m] for ``"tets"``.
+    equivalent : bool
+        Use each joint's *equivalent* E-model joint (``joint.emodel``: bearing in
+        series with the bending of the links it carries, stored in the robot file,
+        see :mod:`~flexarm.assembly.equivalent`) where the robot gives one; False
+        uses the physical joints (``joint.model``), the rigid-link limit of the
+        flexible arm.
 
     Examples
     --------
@@ -109,5 +124,7 @@ def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04) -> ArmMo
         foundation = np.asarray(robot.base.stiffness, dtype=float)
     wrist = None if robot.wrist_stiffness is None else np.asarray(robot.wrist_stiffness)
     log.info("E-model of %s done", robot.name)
-    return ArmModel(chain, bodies, tuple(j.model for j in robot.joints), robot.joint_names,
+    joints = tuple(j.emodel if equivalent and j.emodel is not None else j.model
+                   for j in robot.joints)
+    return ArmModel(chain, bodies, joints, robot.joint_names,
                     "tcp", foundation, robot.base.damping_ratio, wrist, robot.joint_names)

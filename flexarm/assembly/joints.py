@@ -33,6 +33,10 @@ class JointModel:
     tilt : float
         Bearing tilt stiffness about each axis perpendicular to the joint axis
         [N m/rad]; ``inf`` (default) = rigid.
+    tilt2 : float or None
+        Tilt stiffness about the second perpendicular axis (``radial2`` of
+        :func:`joint_basis`) [N m/rad] when it differs from ``tilt`` (equivalent
+        E-model joints, :mod:`~flexarm.assembly.equivalent`); None = ``tilt``.
     radial : float
         Bearing radial stiffness [N/m]; ``inf`` = rigid.
     axial : float
@@ -56,12 +60,14 @@ class JointModel:
     axial: float = math.inf
     damping_ratio: float = 0.02
     rayleigh: tuple[float, float] | None = None
+    tilt2: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("torsion", "tilt", "radial", "axial"):
+        for name in ("torsion", "tilt", "radial", "axial", "tilt_2"):
             v = float(getattr(self, name))
             if not v > 0:
-                raise ValueError(f"joint {name} stiffness must be > 0 (or inf for rigid), got {v}")
+                label = "tilt2" if name == "tilt_2" else name
+                raise ValueError(f"joint {label} stiffness must be > 0 (or inf for rigid), got {v}")
         if not 0 <= self.damping_ratio < 1:
             raise ValueError(f"joint damping_ratio must be in [0, 1), got {self.damping_ratio}")
         if self.rayleigh is not None:
@@ -69,12 +75,20 @@ class JointModel:
             if a < 0 or b < 0:
                 raise ValueError(f"joint rayleigh (alpha, beta) must be >= 0, got {self.rayleigh}")
             object.__setattr__(self, "rayleigh", (a, b))
+        if np.isfinite(self.tilt) != np.isfinite(self.tilt_2):
+            raise ValueError(f"joint tilt and tilt2 must both be finite or both rigid, got "
+                             f"{self.tilt} and {self.tilt2}")
+
+    @property
+    def tilt_2(self) -> float:
+        """Tilt stiffness about ``radial2`` [N m/rad] (``tilt2``, or ``tilt`` if None)."""
+        return float(self.tilt if self.tilt2 is None else self.tilt2)
 
     @property
     def stiffness(self) -> FloatArray:
         """(6,) diagonal stiffness in the joint frame, ``inf`` for rigid directions."""
         return np.array(
-            [self.axial, self.radial, self.radial, self.torsion, self.tilt, self.tilt], float
+            [self.axial, self.radial, self.radial, self.torsion, self.tilt, self.tilt_2], float
         )
 
     @property

@@ -2,7 +2,10 @@
 
 The axial stiffness ``K_ii = 1 / C_ii`` is the inverse static gain of a unit TCP
 force in base direction ``i`` (thesis eq. 3.9).  All poses are evaluated in one
-batched call, so a 100×100 grid takes a fraction of a second for the E-model.
+batched call; the assembled stiffness of rigid and floating-frame flexible arms does not
+depend on the pose (:mod:`~flexarm.assembly.batched`), so a 100×100 grid of TCP
+compliance takes a fraction of a second for the E-model and the flexible model alike;
+the first eigenfrequency needs one eigen-solve per pose (a few hundred poses/s flexible).
 """
 
 from __future__ import annotations
@@ -86,7 +89,7 @@ def stiffness_map(
     frequencies : bool
         Also compute the first eigenfrequency (a batched eigen-solve per pose).
     chunk : int
-        Poses per batched call (bounds memory).
+        Poses per batched call (bounds memory; ``M(q)`` is assembled 50 poses at a time).
     """
     Q = grid_poses(q_fixed, joints, a, b)
     flat = Q.reshape(-1, Q.shape[-1])

@@ -100,7 +100,13 @@ class Link:
 
 @dataclass(frozen=True)
 class Joint:
-    """A revolute joint; ``origin`` [m] and ``rpy`` [rad] in the parent frame."""
+    """A revolute joint; ``origin`` [m] and ``rpy`` [rad] in the parent frame.
+
+    ``model`` is the physical joint (gear torsion, bearing stiffness), used by the
+    flexible and full-FE arms; ``emodel`` (optional) is the *equivalent* joint of the
+    rigid-link E-model, the bearing in series with the bending of the links it carries
+    (:func:`~flexarm.assembly.equivalent.equivalent_joint_models`).
+    """
 
     name: str
     parent: str
@@ -112,6 +118,7 @@ class Joint:
     model: JointModel
     rpy: tuple = (0.0, 0.0, 0.0)
     gear_ratio: float = 1.0
+    emodel: JointModel | None = None
 
 
 @dataclass(frozen=True)

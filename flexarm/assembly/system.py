@@ -7,7 +7,10 @@ on a spring), each joint's free relative DOFs ``delta`` (torsion plus the finite
 bearing directions), and each body's non-proximal DOFs.  A child's proximal node
 is its parent's attachment point plus ``blockdiag(R_J, R_J) E_free delta``, so
 rigid bearing directions never appear.  Then ``K = T^T diag(K_b) T + K_springs``
-and ``M = T^T diag(M_b) T``; everything is batched over poses.
+and ``M = T^T diag(M_b) T``; everything is batched over poses.  When every body has
+one rotating node and no stiffness on its rigid DOFs (rigid links, floating-frame
+superelements), ``K`` does not depend on the pose: :mod:`~flexarm.assembly.batched`
+exploits that for many poses.
 """
 
 from __future__ import annotations

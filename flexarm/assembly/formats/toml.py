@@ -32,9 +32,9 @@ from ..robot import (
 __all__ = ["read", "write", "FORMAT_VERSION"]
 
 FORMAT_VERSION = 1
-_MODEL_KEYS = {"torsion", "tilt", "radial", "axial", "damping_ratio", "rayleigh"}
+_MODEL_KEYS = {"torsion", "tilt", "tilt2", "radial", "axial", "damping_ratio", "rayleigh"}
 _JOINT_KEYS = {"name", "parent", "child", "origin", "rpy_deg", "axis", "limits_deg",
-               "gear_ratio", "model"}
+               "gear_ratio", "model", "emodel"}
 _LINK_KEYS = {"name", "mesh", "units", "material", "lumped", "regions"}
 
 
@@ -119,18 +119,8 @@ def _joint(d: dict) -> Joint:
     if not name:
         raise ValueError("joints: every joint needs a name")
     _check_keys(d, _JOINT_KEYS, key)
-    m = dict(d.get("model", {}))
-    _check_keys(m, _MODEL_KEYS, f"{key}.model")
-    if "torsion" not in m:
-        raise ValueError(f"{key}.model.torsion is required [N m/rad]")
-    model = JointModel(
-        torsion=_stiff(m["torsion"], f"{key}.model.torsion"),
-        tilt=_stiff(m.get("tilt", "rigid"), f"{key}.model.tilt"),
-        radial=_stiff(m.get("radial", "rigid"), f"{key}.model.radial"),
-        axial=_stiff(m.get("axial", "rigid"), f"{key}.model.axial"),
-        damping_ratio=float(m.get("damping_ratio", 0.02)),
-        rayleigh=tuple(m["rayleigh"]) if "rayleigh" in m else None,
-    )
+    model = _joint_model(dict(d.get("model", {})), f"{key}.model")
+    emodel = _joint_model(dict(d["emodel"]), f"{key}.emodel") if "emodel" in d else None
     lim = d.get("limits_deg", [-180.0, 180.0])
     if len(lim) != 2:
         raise ValueError(f"{key}.limits_deg must be [lower, upper], got {lim!r}")
@@ -141,7 +131,23 @@ def _joint(d: dict) -> Joint:
                  tuple(float(v) for v in d["origin"]), tuple(float(v) for v in d["axis"]),
                  math.radians(lim[0]), math.radians(lim[1]), model,
                  tuple(math.radians(v) for v in d.get("rpy_deg", (0, 0, 0))),
-                 float(d.get("gear_ratio", 1.0)))
+                 float(d.get("gear_ratio", 1.0)), emodel)
+
+
+def _joint_model(m: dict, key: str) -> JointModel:
+    """A ``[joints.model]`` (physical) or ``[joints.emodel]`` (equivalent) table."""
+    _check_keys(m, _MODEL_KEYS, key)
+    if "torsion" not in m:
+        raise ValueError(f"{key}.torsion is required [N m/rad]")
+    return JointModel(
+        torsion=_stiff(m["torsion"], f"{key}.torsion"),
+        tilt=_stiff(m.get("tilt", "rigid"), f"{key}.tilt"),
+        radial=_stiff(m.get("radial", "rigid"), f"{key}.radial"),
+        axial=_stiff(m.get("axial", "rigid"), f"{key}.axial"),
+        damping_ratio=float(m.get("damping_ratio", 0.02)),
+        rayleigh=tuple(m["rayleigh"]) if "rayleigh" in m else None,
+        tilt2=_stiff(m["tilt2"], f"{key}.tilt2") if "tilt2" in m else None,
+    )
 
 
 def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
@@ -207,6 +213,16 @@ def _num(v: float):
     return "rigid" if math.isinf(v) else float(v)
 
 
+def _model_dict(m: JointModel) -> dict:
+    model = {"torsion": _num(m.torsion), "tilt": _num(m.tilt), "radial": _num(m.radial),
+             "axial": _num(m.axial), "damping_ratio": m.damping_ratio}
+    if m.tilt2 is not None:
+        model["tilt2"] = _num(m.tilt2)
+    if m.rayleigh is not None:
+        model["rayleigh"] = list(m.rayleigh)
+    return model
+
+
 def to_dict(robot: Robot, folder: Path) -> dict:
     """Plain TOML-ready dict of ``robot``; mesh paths relative to ``folder``."""
     links = []
@@ -229,18 +245,15 @@ def to_dict(robot: Robot, folder: Path) -> dict:
         links.append(d)
     joints = []
     for j in robot.joints:
-        m = j.model
-        model = {"torsion": _num(m.torsion), "tilt": _num(m.tilt), "radial": _num(m.radial),
-                 "axial": _num(m.axial), "damping_ratio": m.damping_ratio}
-        if m.rayleigh is not None:
-            model["rayleigh"] = list(m.rayleigh)
         joints.append({
             "name": j.name, "parent": j.parent, "child": j.child,
             "origin": list(j.origin), "rpy_deg": [math.degrees(v) for v in j.rpy],
             "axis": list(j.axis),
             "limits_deg": [math.degrees(j.lower), math.degrees(j.upper)],
-            "gear_ratio": j.gear_ratio, "model": model,
+            "gear_ratio": j.gear_ratio, "model": _model_dict(j.model),
         })
+        if j.emodel is not None:
+            joints[-1]["emodel"] = _model_dict(j.emodel)
     base: dict = {"support": robot.base.kind, "damping_ratio": robot.base.damping_ratio}
     if robot.base.stiffness is not None:
         base["stiffness"] = [list(r) for r in robot.base.stiffness]
