@@ -28,12 +28,24 @@ __all__ = ["robot_with_effects", "write_robot", "read_robot_effects", "write_his
 _NONLINEAR = ("backlash", "hardening", "hysteresis")
 
 
+def _fitted_joint(joint, fitted):
+    """The robot joint carrying the fitted E-model joint ``fitted``.
+
+    When the robot keeps a separate equivalent E-model joint (bearing in series with
+    link bending), the fit belongs there; the physical joint takes the fitted gear
+    torsion, which link bending does not change.
+    """
+    if joint.emodel is None:
+        return replace(joint, model=fitted)
+    return replace(joint, emodel=fitted, model=replace(joint.model, torsion=fitted.torsion))
+
+
 def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> tuple[Robot, list[Effect]]:
     """Robot with the linear effects built in, and the nonlinear effects (resolved)."""
     linear = [e for e in effects if e.kind not in _NONLINEAR]
     nonlinear = [resolve(e, arm) for e in effects if e.kind in _NONLINEAR]
     new, _ = apply_effects(arm, linear)
-    joints = tuple(replace(j, model=m) for j, m in zip(robot.joints, new.joints, strict=True))
+    joints = tuple(_fitted_joint(j, m) for j, m in zip(robot.joints, new.joints, strict=True))
     base = robot.base
     if new.foundation is not None:
         base = BaseSupport("spring", tuple(map(tuple, np.asarray(new.foundation).tolist())),
