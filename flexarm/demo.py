@@ -257,7 +257,104 @@ def _measurement_step(out: Path, report: DemoReport, progress: Progress) -> None
     ]
 
 
-def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: float = 0.03) -> DemoReport:
+def _flexible_step(out: Path, report: DemoReport, progress: Progress) -> None:
+    """Superelement links at P1-P3: build, model comparison, a small study, pictures, map."""
+    from .assembly import stiffness_map, tcp_compliance
+    from .assembly.analyses import natural_frequencies
+    from .assembly.build import BuildOptions, build_robot
+    from .assembly.compare import compare_models
+    from .assembly.flexible import flexible_arm
+    from .assembly.maps import plot_map, write_csv
+    from .assembly.study import run_study
+    from .meshes.demo_arm import load_demo_robot
+
+    robot = load_demo_robot()
+    opts = BuildOptions().resolved(robot)
+    builds = build_robot(robot, opts, progress=lambda s: progress(f"build: {s}"))
+    arm = flexible_arm(robot, opts, builds)
+    _write_csv(out / "build.csv", ["link", "tets", "dofs", "reduced_dofs", "f1_fixed_Hz", "seconds"],
+               [[b.name, b.n_tets, b.n_fe_dofs, b.n_reduced,
+                 float(b.freq_hz[0]) if len(b.freq_hz) else float("nan"), float(b.seconds)]
+                for b in builds])
+
+    progress("arm: E-model, Guyan, CB and CB + coupled wrist at P1, P2, P3")
+    cmp = compare_models(robot, ("P1", "P2", "P3"), full_fe=False, out_dir=out / "models")
+    rows = []
+    for name in ("P1", "P2", "P3"):
+        q = robot.pose(name)
+        C = tcp_compliance(arm, q)[:3, :3]
+        f1 = float(natural_frequencies(arm, q)[0])
+        defl = 800.0 * np.diag(C) * 1e3
+        weakest = "xyz"[int(np.argmax(np.diag(C)))]
+        report.figures[f"flexible_{name}_f1_Hz"] = f1
+        report.figures[f"flexible_{name}_defl_800N_y_mm"] = float(defl[1])
+        rows.append(f"| {name} | {f1:.2f} | " + " / ".join(f"{d:.2f}" for d in defl)
+                    + f" | {weakest.upper()} |")
+
+    progress("arm: accuracy study at P1 against the full-FE reference (cached after the first run)")
+    study = run_study(robot, "P1", sizes=(robot.options.mesh_size,), modes=(0, 5, 10),
+                      couplings=("rbe2", "rbe3"), out_dir=out / "study",
+                      progress=lambda s: progress(f"study: {s}"))
+
+    progress("arm: flexible stiffness map over (q2, q3) and mode pictures")
+    lo, hi = robot.lower, robot.upper
+    m = stiffness_map(arm, robot.pose("P1"), np.linspace(lo[1], hi[1], 40),
+                      np.linspace(lo[2], hi[2], 40))
+    write_csv(out / "flexible_map.csv", m)
+    pngs = plot_map(m, out / "flexible_map")
+    share_y = float(np.mean(m.least_stiff == 1))
+    report.figures["flexible_map_y_weakest_share"] = share_y
+    pictures = _arm_pictures(out, robot, arm, builds)
+
+    report.lines += [
+        "## The flexible arm (Craig-Bampton links joined by the same joint springs)",
+        "",
+        f"Links tetrahedralised at {opts.mesh_size * 1e3:g} mm, reduced by {opts.method.upper()}"
+        f"({opts.n_modes}) with {opts.coupling.upper()} interfaces ([build.csv](build.csv)): "
+        f"{sum(b.n_fe_dofs for b in builds)} FE DOF → {arm_dofs(arm)} arm coordinates.",
+        "",
+        "| pose | f1 [Hz] | TCP deflection at 800 N x / y / z [mm] | weakest |",
+        "|---|---|---|---|",
+        *rows,
+        "",
+        f"- Model comparison (first 10 frequencies, TCP compliance): "
+        f"[model_comparison.csv](models/model_comparison.csv) · "
+        f"![Bode](models/model_comparison_bode.png)",
+        f"- Accuracy study at P1 vs the full-FE reference ({study.reference.n_dofs} DOF): "
+        f"[arm_study.csv](study/arm_study.csv); {study.verdict.replace(chr(10), '; ')}",
+        "  ![error vs DOF](study/arm_study_error_vs_dof.png) ![Pareto](study/arm_study_pareto.png)",
+        f"- Flexible stiffness map: [flexible_map.csv](flexible_map.csv); Y is the least stiff "
+        f"direction on {share_y * 100:.1f}% of the grid.",
+        *[f"  - ![{p.stem}](flexible_map/{p.name})" for p in pngs if "heat" in p.name],
+        *pictures,
+        "",
+    ]
+
+
+def arm_dofs(arm) -> int:
+    """Independent coordinates of an assembled arm (joint DOFs + body DOFs)."""
+    from .assembly.system import system_matrices
+
+    return int(system_matrices(arm, np.zeros(arm.chain.n_joints)).K.shape[-1])
+
+
+def _arm_pictures(out: Path, robot, arm, builds) -> list[str]:
+    try:
+        from .assembly.render_arm import render_arm_mode
+
+        q = robot.pose("P1")
+        render_arm_mode(robot, q, 1, out / "arm_P1_mode1.gif", arm=arm, builds=builds,
+                        pose_name="P1", ellipsoid=True)
+        render_arm_mode(robot, q, 2, out / "arm_P1_mode2.png", arm=arm, builds=builds,
+                        pose_name="P1")
+        return ["- Mode shapes at P1 (links recovered to the full field, TCP compliance "
+                "ellipsoid): ![mode 1](arm_P1_mode1.gif) ![mode 2](arm_P1_mode2.png)"]
+    except Exception as exc:  # noqa: BLE001 - pictures are optional; say why they are missing
+        return [f"- (no arm pictures: {exc})"]
+
+
+def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: float = 0.03,
+             part: bool = False) -> DemoReport:
     """Run every demo step into ``folder`` and write its ``index.md``.
 
     Parameters
@@ -268,14 +365,18 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
         Receives one line per step.
     size : float
         Edge length of the part-level mesh [m].
+    part : bool
+        Also run the single-part pipeline (full FE modes of one cast link).
     """
     progress = progress or (lambda s: log.info(s))
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     report = DemoReport(out)
     t0 = time.perf_counter()
-    _part_step(out, report, progress, size)
+    if part:
+        _part_step(out, report, progress, size)
     _emodel_step(out, report, progress)
+    _flexible_step(out, report, progress)
     _measurement_step(out, report, progress)
     report.seconds = time.perf_counter() - t0
     head = ["# flexarm demo", "", f"Run time {report.seconds:.1f} s.", ""]
