@@ -3,7 +3,7 @@
 
 Cold = an empty cache folder (every link meshed by pytetwild, every superelement and the
 full-FE reference computed); warm = the same command again with that cache.  Each run is
-a separate process (``/usr/bin/time``-style peak RSS from ``resource``).  Targets
+a separate process reporting its own peak RSS (``resource.getrusage``).  Targets
 (issue 5): cold <= 5 min, warm <= 20 s on 2 cores.
 
     python benchmarks/demo.py             # cold + warm in a temporary cache
@@ -14,23 +14,33 @@ from __future__ import annotations
 
 import argparse
 import os
-import resource
 import subprocess
 import sys
 import tempfile
 import time
 
 
+_CHILD = (
+    "import resource, sys\n"
+    "from flexarm.cli import main\n"
+    "rc = main(['demo', '-o', sys.argv[1]])\n"
+    "print('PEAK_KB', resource.getrusage(resource.RUSAGE_SELF).ru_maxrss)\n"
+    "sys.exit(rc)\n"
+)
+
+
 def run(cache: str | None, out: str) -> tuple[float, float]:
+    """Wall time [s] and the demo process's own peak RSS [MB]."""
     env = dict(os.environ)
     if cache:
         env["FLEXARM_CACHE"] = cache
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "flexarm.cli", "demo", "-o", out], env=env, check=True,
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    done = subprocess.run([sys.executable, "-c", _CHILD, out], env=env, check=True,
+                          capture_output=True, text=True)
     dt = time.perf_counter() - t0
-    peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0
-    return dt, peak_mb
+    peak_kb = [int(line.split()[1]) for line in done.stdout.splitlines()
+               if line.startswith("PEAK_KB")][-1]
+    return dt, peak_kb / 1024.0
 
 
 def main() -> None:

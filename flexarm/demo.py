@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import logging
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 import numpy as np
 
@@ -53,7 +53,13 @@ def _write_csv(path: Path, header: list[str], rows) -> None:
 
 def _part_step(out: Path, report: DemoReport, progress: Progress, size: float) -> None:
     """One built-in cast link: CAD -> Tet10 -> free and clamped modes."""
-    from .meshes import hollow_link_surface, mesh_quality, tetrahedralize, write_surface, write_volume_mesh
+    from .meshes import (
+        hollow_link_surface,
+        mesh_quality,
+        tetrahedralize,
+        write_surface,
+        write_volume_mesh,
+    )
 
     material = MATERIALS["cast_iron"]
     surface = hollow_link_surface()
@@ -78,7 +84,8 @@ def _part_step(out: Path, report: DemoReport, progress: Progress, size: float) -
     progress("part: clamped modes (hub bore at the origin fixed)")
     clamped = modes(split.condense(K), split.condense(M), 10, eigensolver=shift_invert(0.0))
 
-    rows = [[i + 1, float(f), int(rig)] for i, (f, rig) in enumerate(zip(free.freq_hz, free.is_rigid))]
+    rows = [[i + 1, float(f), int(rig)]
+            for i, (f, rig) in enumerate(zip(free.freq_hz, free.is_rigid, strict=True))]
     _write_csv(out / "link_free_modes.csv", ["mode", "freq_Hz", "rigid"], rows)
     _write_csv(out / "link_clamped_modes.csv", ["mode", "freq_Hz"],
                [[i + 1, float(f)] for i, f in enumerate(clamped.freq_hz)])
@@ -92,13 +99,16 @@ def _part_step(out: Path, report: DemoReport, progress: Progress, size: float) -
     report.lines += [
         "## One cast link (part level)",
         "",
-        f"Built-in hollow link, {material.name} (E {material.E / 1e9:g} GPa, ρ {material.rho:g} kg/m³): "
+        f"Built-in hollow link, {material.name} (E {material.E / 1e9:g} GPa, "
+        f"ρ {material.rho:g} kg/m³): "
         f"{mesh.n_tets} Tet10, {mesh.n_dofs} DOF, mass {mp.mass:.2f} kg; assembly {t_asm:.2f} s.",
         "",
-        f"- CAD: [link.stl](link.stl) · volume mesh: [link.vtu](link.vtu) · quality: [link_quality.txt](link_quality.txt)",
-        f"- Free modes ([link_free_modes.csv](link_free_modes.csv)): {free.n_rigid} rigid-body modes, "
+        "- CAD: [link.stl](link.stl) · volume mesh: [link.vtu](link.vtu) · "
+        "quality: [link_quality.txt](link_quality.txt)",
+        f"- Free modes ([link_free_modes.csv](link_free_modes.csv)): "
+        f"{free.n_rigid} rigid-body modes, "
         f"first elastic {report.figures['link_first_free_Hz']:.1f} Hz",
-        f"- Clamped at the origin hub ([link_clamped_modes.csv](link_clamped_modes.csv)): "
+        "- Clamped at the origin hub ([link_clamped_modes.csv](link_clamped_modes.csv)): "
         + ", ".join(f"{f:.1f}" for f in clamped.freq_hz[:6]) + " Hz",
         *se_lines,
         "",
@@ -136,7 +146,8 @@ def _superelement_pictures(out: Path, mesh, material, report: DemoReport,
 
 def _emodel_step(out: Path, report: DemoReport, progress: Progress) -> None:
     """The built-in arm as an E-model (rigid links + joint springs) at the thesis poses."""
-    from .assembly import emodel, identify_stiffness, modes as arm_modes, stiffness_map, tcp_compliance
+    from .assembly import emodel, identify_stiffness, stiffness_map, tcp_compliance
+    from .assembly import modes as arm_modes
     from .assembly.analyses import frf
     from .assembly.maps import plot_map, write_csv
     from .assembly.plots import plot_frf
@@ -164,7 +175,8 @@ def _emodel_step(out: Path, report: DemoReport, progress: Progress) -> None:
         report.figures[f"emodel_{name}_f1_Hz"] = float(md.freq_hz[0])
         report.figures[f"emodel_{name}_defl_800N_y_mm"] = float(defl[1])
     report.figures["arm_mass_kg"] = mass
-    header = (["pose"] + [f"f{i}_Hz" for i in range(1, 7)] + ["dx_800N_mm", "dy_800N_mm", "dz_800N_mm"]
+    header = (["pose"] + [f"f{i}_Hz" for i in range(1, 7)]
+              + ["dx_800N_mm", "dy_800N_mm", "dz_800N_mm"]
               + ["weakest", "diag_err_x_pct", "diag_err_y_pct", "diag_err_z_pct"])
     _write_csv(out / "emodel_poses.csv", header, rows)
 
@@ -184,11 +196,12 @@ def _emodel_step(out: Path, report: DemoReport, progress: Progress) -> None:
         f"Built-in IRB 4600-class arm, {mass:.1f} kg; link mass properties are volume integrals"
         " over each link's tetrahedral mesh plus lumped motors and gearboxes.",
         "",
-        "| pose | first modes [Hz] | TCP deflection at 800 N x / y / z [mm] | weakest | diagonal-model error x+ / y+ / z+ [%] |",
+        "| pose | first modes [Hz] | TCP deflection at 800 N x / y / z [mm] | weakest "
+        "| diagonal-model error x+ / y+ / z+ [%] |",
         "|---|---|---|---|---|",
         *lines,
         "",
-        f"- Table: [emodel_poses.csv](emodel_poses.csv) · Bode at P1: ![bode](emodel_bode_P1.png)",
+        "- Table: [emodel_poses.csv](emodel_poses.csv) · Bode at P1: ![bode](emodel_bode_P1.png)",
         f"- Joint-space map (q2, q3) at P1's other joints: [emodel_map.csv](emodel_map.csv); "
         f"Y is the least stiff direction on {share_y * 100:.1f}% of the grid.",
         *[f"  - ![{p.stem}](emodel_map/{p.name})" for p in pngs],
@@ -205,7 +218,12 @@ def _measurement_step(out: Path, report: DemoReport, progress: Progress) -> None
     from .validation import read_measurements
     from .validation.compare import compare_static, write_report
     from .validation.diagnose import diagnose
-    from .validation.history import read_robot_effects, robot_with_effects, write_history, write_robot
+    from .validation.history import (
+        read_robot_effects,
+        robot_with_effects,
+        write_history,
+        write_robot,
+    )
 
     source = Path(str(files("flexarm") / "data" / "lab" / "lab_hidden_effect.csv"))
     data_path = out / "measurements.csv"
@@ -232,7 +250,8 @@ def _measurement_step(out: Path, report: DemoReport, progress: Progress) -> None
         "measurements_rms_final_um": after.rms * 1e6,
     })
     lo, hi = after.band
-    rows = [f"| {st.label} | {st.chi2_red:.3f} | {st.rms_fit * 1e6:.1f} | {st.rms_heldout * 1e6:.1f} |"
+    rows = [f"| {st.label} | {st.chi2_red:.3f} | {st.rms_fit * 1e6:.1f} "
+            f"| {st.rms_heldout * 1e6:.1f} |"
             for st in dg.steps]
     report.lines += [
         "## Measurements: where the model fails and which effect is missing",
@@ -246,7 +265,8 @@ def _measurement_step(out: Path, report: DemoReport, progress: Progress) -> None
         "([errors and plots](measurements_v0/))",
         *[f"- **Accepted**: {a}" for a in accepted],
         f"- Updated robot file [robot_v1.toml](robot_v1.toml): χ²_red {after.chi2_red:.3f} "
-        f"(band {lo:.3f}–{hi:.3f}), RMS {after.rms * 1e6:.1f} µm ([errors and plots](measurements_v1/))",
+        f"(band {lo:.3f}–{hi:.3f}), RMS {after.rms * 1e6:.1f} µm "
+        "([errors and plots](measurements_v1/))",
         "",
         "| model version | χ²_red | RMS fitted [µm] | RMS held-out [µm] |",
         "|---|---|---|---|",
@@ -272,13 +292,14 @@ def _flexible_step(out: Path, report: DemoReport, progress: Progress) -> None:
     opts = BuildOptions().resolved(robot)
     builds = build_robot(robot, opts, progress=lambda s: progress(f"build: {s}"))
     arm = flexible_arm(robot, opts, builds)
-    _write_csv(out / "build.csv", ["link", "tets", "dofs", "reduced_dofs", "f1_fixed_Hz", "seconds"],
+    _write_csv(out / "build.csv",
+               ["link", "tets", "dofs", "reduced_dofs", "f1_fixed_Hz", "seconds"],
                [[b.name, b.n_tets, b.n_fe_dofs, b.n_reduced,
                  float(b.freq_hz[0]) if len(b.freq_hz) else float("nan"), float(b.seconds)]
                 for b in builds])
 
     progress("arm: E-model, Guyan, CB and CB + coupled wrist at P1, P2, P3")
-    cmp = compare_models(robot, ("P1", "P2", "P3"), full_fe=False, out_dir=out / "models")
+    compare_models(robot, ("P1", "P2", "P3"), full_fe=False, out_dir=out / "models")
     rows = []
     for name in ("P1", "P2", "P3"):
         q = robot.pose(name)
@@ -317,9 +338,9 @@ def _flexible_step(out: Path, report: DemoReport, progress: Progress) -> None:
         "|---|---|---|---|",
         *rows,
         "",
-        f"- Model comparison (first 10 frequencies, TCP compliance): "
-        f"[model_comparison.csv](models/model_comparison.csv) · "
-        f"![Bode](models/model_comparison_bode.png)",
+        "- Model comparison (first 10 frequencies, TCP compliance): "
+        "[model_comparison.csv](models/model_comparison.csv) · "
+        "![Bode](models/model_comparison_bode.png)",
         f"- Accuracy study at P1 vs the full-FE reference ({study.reference.n_dofs} DOF): "
         f"[arm_study.csv](study/arm_study.csv); {study.verdict.replace(chr(10), '; ')}",
         "  ![error vs DOF](study/arm_study_error_vs_dof.png) ![Pareto](study/arm_study_pareto.png)",
@@ -344,7 +365,7 @@ def _arm_pictures(out: Path, robot, arm, builds) -> list[str]:
 
         q = robot.pose("P1")
         render_arm_mode(robot, q, 1, out / "arm_P1_mode1.gif", arm=arm, builds=builds,
-                        pose_name="P1", ellipsoid=True)
+                        pose_name="P1", ellipsoid=True, n_frames=12)
         render_arm_mode(robot, q, 2, out / "arm_P1_mode2.png", arm=arm, builds=builds,
                         pose_name="P1")
         return ["- Mode shapes at P1 (links recovered to the full field, TCP compliance "
