@@ -19,7 +19,6 @@ import sys
 import tempfile
 import time
 
-
 _CHILD = (
     "import resource, sys\n"
     "from flexarm.cli import main\n"

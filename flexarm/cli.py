@@ -11,7 +11,7 @@ import argparse
 import logging
 import os
 import sys
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -97,9 +97,9 @@ def _table(headers: list[str], rows: list[list], floatfmt: str = "{:.6g}") -> st
     cells = [[floatfmt.format(c) if isinstance(c, float) else str(c) for c in r] for r in rows]
     widths = [max(len(h), *(len(r[i]) for r in cells)) if cells else len(h)
               for i, h in enumerate(headers)]
-    line = "  ".join(h.rjust(w) for h, w in zip(headers, widths))
+    line = "  ".join(h.rjust(w) for h, w in zip(headers, widths, strict=True))
     out = [line, "  ".join("-" * w for w in widths)]
-    out += ["  ".join(c.rjust(w) for c, w in zip(r, widths)) for r in cells]
+    out += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=False)) for r in cells]
     return "\n".join(out)
 
 
@@ -120,7 +120,8 @@ def _run_mesh(args) -> int:
 
     if args.size <= 0:
         raise ValueError(f"--size must be a positive edge length in metres, got {args.size}")
-    with _Progress(f"meshing {args.surface} (edge {args.size * 1e3:g} mm, Tet{4 if args.order == 1 else 10})") as pr:
+    with _Progress(f"meshing {args.surface} (edge {args.size * 1e3:g} mm, "
+                   f"Tet{4 if args.order == 1 else 10})") as pr:
         mesh, quality = mesh_part(
             args.surface, units=args.units, size=args.size, order=args.order,
             optimize=not args.no_optimize, cache=not args.no_cache, progress=pr.note,
@@ -146,8 +147,15 @@ def _add_modal(p: argparse.ArgumentParser) -> None:
 
 @command("modal", "natural frequencies of one part (free or clamped)", _add_modal)
 def _run_modal(args) -> int:
-    from .fe import (assemble, dof_split, material_from_string, modes, node_dofs,
-                     select_nodes, shift_invert)
+    from .fe import (
+        assemble,
+        dof_split,
+        material_from_string,
+        modes,
+        node_dofs,
+        select_nodes,
+        shift_invert,
+    )
     from .fe.files import atomic_path
     from .meshes import read_volume_mesh
 
@@ -155,7 +163,8 @@ def _run_modal(args) -> int:
     if args.modes < 1:
         raise ValueError(f"-n must be >= 1, got {args.modes}")
     mesh = read_volume_mesh(args.mesh).check(args.mesh)
-    with _Progress(f"assembling {mesh.n_tets} Tet{4 if mesh.order == 1 else 10} ({mesh.n_dofs} DOF)"):
+    with _Progress(f"assembling {mesh.n_tets} Tet{4 if mesh.order == 1 else 10} "
+                   f"({mesh.n_dofs} DOF)"):
         K, M = assemble(mesh, material)
     if args.fix:
         try:
@@ -171,12 +180,12 @@ def _run_modal(args) -> int:
     with _Progress(f"eigen-solve: {n} modes of {K.shape[0]} DOF"):
         result = modes(K, M, n, eigensolver=solver)
     rows = [[i + 1, float(f), "rigid" if r else ""] for i, (f, r) in
-            enumerate(zip(result.freq_hz, result.is_rigid))]
+            enumerate(zip(result.freq_hz, result.is_rigid, strict=True))]
     mass = float(M.sum()) / 3 if not args.fix else None
     _print(f"{args.mesh}: {mesh.n_tets} tets, {mesh.n_dofs} DOF, material {material.name} "
            f"(E {material.E:.4g} Pa, nu {material.nu:g}, rho {material.rho:g} kg/m^3)")
-    _print(f"support: {'clamped ' + str(len(nodes)) + ' nodes (' + args.fix + ')' if args.fix else 'free'}"
-           + (f"; mass {mass:.6g} kg" if mass else ""))
+    support = f"clamped {len(nodes)} nodes ({args.fix})" if args.fix else "free"
+    _print(f"support: {support}" + (f"; mass {mass:.6g} kg" if mass else ""))
     if not args.fix:
         _print(f"rigid-body modes: {result.n_rigid} (a free part has 6)")
     _print(_table(["mode", "freq [Hz]", ""], rows))
@@ -245,7 +254,8 @@ def _run_modes(args) -> int:
     robot, arm = _arm_from_args(args)
     md = modes(arm, _pose_from_args(robot, args))
     names = robot.joint_names
-    _print(f"{'mode':>4s} {'freq_Hz':>10s} {'zeta':>7s}  " + " ".join(f"{n[-7:]:>7s}" for n in names))
+    _print(f"{'mode':>4s} {'freq_Hz':>10s} {'zeta':>7s}  "
+           + " ".join(f"{n[-7:]:>7s}" for n in names))
     for r, f in enumerate(md.freq_hz):
         shares = " ".join(f"{e:7.3f}" for e in md.energy[:, r])
         _print(f"{r + 1:4d} {f:10.3f} {md.damping[r]:7.4f}  {shares}")
@@ -285,7 +295,7 @@ def _run_compliance(args) -> int:
         _print("  " + " ".join(f"{rep.K_full[i, j] * 1e-3:9.1f}" for j in range(3)) + "    "
                + " ".join(f"{rep.K_diag[i, j] * 1e-3:9.1f}" for j in range(3)))
     _print("diagonal-model error per load case [%]: "
-           + "  ".join(f"{d}+={e * 100:.1f}" for d, e in zip("xyz", rep.error_diag)))
+           + "  ".join(f"{d}+={e * 100:.1f}" for d, e in zip("xyz", rep.error_diag, strict=True)))
     sag = gravity_sag(arm, q)
     _print("gravity sag of the TCP [mm]: " + "  ".join(f"{d}={sag[i] * 1e3:.3f}"
                                                       for i, d in enumerate("xyz")))
@@ -340,7 +350,7 @@ def _run_map(args) -> int:
                       frequencies=not args.no_frequencies)
     share = np.bincount(m.least_stiff.ravel(), minlength=3) / m.least_stiff.size
     _print("least stiff direction share: "
-           + "  ".join(f"{d}={s * 100:.1f}%" for d, s in zip("xyz", share)))
+           + "  ".join(f"{d}={s * 100:.1f}%" for d, s in zip("xyz", share, strict=True)))
     for d, (a, b, k) in stiffest(m).items():
         _print(f"stiffest in {d}: q2={np.degrees(a):7.1f} deg q3={np.degrees(b):7.1f} deg "
                f"K{d}{d}={k * 1e-3:.0f} N/mm")

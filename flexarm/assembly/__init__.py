@@ -19,12 +19,12 @@ from .analyses import (
     stiffness_from_load_cases,
     tcp_compliance,
 )
+from .bodies import Body, combine_mass_properties, point_mass_properties, rigid_body
 from .build import BuildOptions, LinkBuild, build_link, build_robot
 from .compare import ComparisonReport, compare_models
+from .emodel import emodel, link_mass_properties, total_mass
 from .flexible import flexible_arm, superelement_body
 from .full_fe import full_fe_analysis, full_fe_bodies, full_fe_matrices
-from .bodies import Body, combine_mass_properties, point_mass_properties, rigid_body
-from .emodel import emodel, link_mass_properties, total_mass
 from .ik import IKConfig, ik, ik_analytic, ik_dls
 from .joints import JointModel
 from .kinematics import Chain, jacobian, joint_to_motor, link_frames, motor_to_joint, tcp_frame

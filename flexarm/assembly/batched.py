@@ -29,7 +29,7 @@ from ..fe.typing import ArrayLike, FloatArray
 from .bodies import rigid_transport
 from .joints import joint_basis
 from .kinematics import link_frames
-from .system import ArmModel, rotation_blocks
+from .system import ArmModel, _joint_tcp_columns, rotation_blocks
 
 __all__ = [
     "has_constant_stiffness",
@@ -135,17 +135,7 @@ def tcp_map(arm: ArmModel, q: ArrayLike, compact: bool = False) -> FloatArray:
     if arm.foundation is not None:
         p0 = R[..., 0, :, :] @ arm.bodies[0].node_positions[0] + t[..., 0, :]
         G[..., :, where[lay["foundation"]]] = rigid_transport(p_tcp - p0)
-    for j in chain.ancestors(c):
-        i = j + 1
-        RJ = R[..., i, :, :] @ joint_basis(chain.axes[j])
-        p = R[..., i, :, :] @ arm.bodies[i].node_positions[0] + t[..., i, :]
-        for col, d in zip(where[lay["joint"][j]], arm.joints[j].free_dofs, strict=True):
-            e = RJ[..., :, d % 3]
-            if d < 3:
-                G[..., :3, col] = e
-            else:
-                G[..., :3, col] = np.cross(e, p_tcp - p)
-                G[..., 3:, col] = e
+    _joint_tcp_columns(G, arm, c, R, t, p_tcp, [where[cols] for cols in lay["joint"]])
     for i, name in exits:
         Gi = arm.bodies[i].G(name)
         cols = lay["body"][i]

@@ -38,7 +38,8 @@ from .emodel import link_mass_properties
 from .robot import Robot
 from .system import ArmModel
 
-__all__ = ["superelement_body", "body_coordinates", "flexible_bodies", "flexible_arm", "coupled_wrist_stiffness"]
+__all__ = ["superelement_body", "body_coordinates", "flexible_bodies", "flexible_arm",
+           "coupled_wrist_stiffness"]
 
 log = logging.getLogger(__name__)
 
@@ -163,7 +164,7 @@ def coupled_wrist_stiffness(robot: Robot) -> FloatArray:
 
 def flexible_arm(
     robot: Robot,
-    options: BuildOptions = BuildOptions(),
+    options: BuildOptions = BuildOptions(),  # noqa: B008 (frozen dataclass)
     builds: tuple[LinkBuild, ...] | None = None,
     coupled_wrist: bool = False,
     damping_ratio: float = 0.01,

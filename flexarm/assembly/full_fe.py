@@ -32,7 +32,6 @@ from ..reduction import coupled_model
 from .bodies import point_mass_properties, rigid_transport
 from .build import BuildOptions, Mesher, cylinder_regions, link_material, link_mesh, link_regions
 from .emodel import link_mass_properties
-from .flexible import body_coordinates
 from .joints import joint_basis
 from .kinematics import link_frames
 from .robot import Robot
@@ -89,7 +88,7 @@ def _floating_frame(coupling, points: np.ndarray, nodes: np.ndarray) -> sp.csr_m
     its own elastic coordinate; the first six coordinates are the joint point's motion
     (node 0 has no elastic coordinate of its own).
     """
-    nb, n = coupling.n_boundary, coupling.n_coupled
+    n = coupling.n_coupled
     fe = _interior_fe_dofs(coupling)
     Rb = rigid_transport(nodes).reshape(-1, 6)  # (nb, 6) boundary rows
     Ri = _translation_rows(points[fe // 3])[np.arange(fe.size), fe % 3]
@@ -149,7 +148,8 @@ def _fe_body(robot: Robot, i: int, opts: BuildOptions, mesher: Mesher | None) ->
     return SparseBody(lk.name, K.tocsr(), M.tocsr(), pts)
 
 
-def full_fe_bodies(robot: Robot, options: BuildOptions = BuildOptions(),
+def full_fe_bodies(robot: Robot,
+                   options: BuildOptions = BuildOptions(),  # noqa: B008 (frozen)
                    mesher: Mesher | None = None,
                    progress: Callable[[str], None] | None = None) -> tuple[SparseBody, ...]:
     """Unreduced coupled FE model of every link (same meshes/regions as the build)."""

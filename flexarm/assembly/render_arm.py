@@ -25,10 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fe.errors import FlexarmError
 from ..fe.typing import ArrayLike, FloatArray, IntArray
 from ..reduction.couplings import rigid_transport
-from ..reduction.render import has_display, render_backend
+from ..reduction.render import _picture_suffix
 from .build import LinkBuild
 from .flexible import body_coordinates
 from .robot import Robot
@@ -178,15 +177,7 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
     interactive : bool
         Also open a window (needs :func:`~flexarm.reduction.render.has_display`).
     """
-    if interactive and not has_display():
-        raise FlexarmError("--interactive needs a display (DISPLAY or WAYLAND_DISPLAY is unset)")
-    if path is None and not interactive:
-        raise ValueError("give an output path (.png or .gif) or interactive=True")
-    suffix = Path(path).suffix.lower() if path is not None else ""
-    if path is not None and suffix not in (".png", ".gif"):
-        raise ValueError(f"picture must be .png or .gif, got '{path}'")
-    if path is not None:
-        render_backend()
+    suffix = _picture_suffix(path, interactive)
     import pyvista as pv
 
     live = [f for f in fields if len(f.points)]

@@ -249,15 +249,28 @@ def rigid_tcp_map(arm: ArmModel, q: ArrayLike) -> FloatArray:
     if arm.foundation is not None:
         p0 = arm.bodies[0].node_positions[0]
         G[..., :, lay["foundation"]] = rigid_transport(p_tcp - p0)
+    _joint_tcp_columns(G, arm, c, F[..., :3, :3], F[..., :3, 3], p_tcp, lay["joint"])
+    return G
+
+
+def _joint_tcp_columns(G: FloatArray, arm: ArmModel, c: int, R: FloatArray, t: FloatArray,
+                       p_tcp: FloatArray, joint_cols) -> None:
+    """Fill the TCP motion of the joints on the path to body ``c`` into ``G`` (in place).
+
+    ``R`` (..., n_bodies, 3, 3) and ``t`` (..., n_bodies, 3) are the body frames,
+    ``p_tcp`` (..., 3) the TCP [m] and ``joint_cols[j]`` the columns of joint ``j``'s
+    free DOFs.  A free translation ``v`` moves the TCP by ``[v; 0]``, a free rotation
+    ``w`` of a joint whose child node sits at ``p`` by ``[w x (p_tcp - p); w]``.
+    """
+    chain = arm.chain
     for j in chain.ancestors(c):
         i = j + 1
-        RJ = F[..., i, :3, :3] @ joint_basis(chain.axes[j])
-        p = F[..., i, :3, :3] @ arm.bodies[i].node_positions[0] + F[..., i, :3, 3]
-        for col, d in zip(lay["joint"][j], arm.joints[j].free_dofs, strict=True):
+        RJ = R[..., i, :, :] @ joint_basis(chain.axes[j])
+        p = R[..., i, :, :] @ arm.bodies[i].node_positions[0] + t[..., i, :]
+        for col, d in zip(joint_cols[j], arm.joints[j].free_dofs, strict=True):
             e = RJ[..., :, d % 3]
             if d < 3:
                 G[..., :3, col] = e
             else:
                 G[..., :3, col] = np.cross(e, p_tcp - p)
                 G[..., 3:, col] = e
-    return G

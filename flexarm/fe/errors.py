@@ -52,5 +52,6 @@ class MissingDependencyError(FlexarmError):
 
     def __init__(self, package: str, purpose: str = ""):
         extra = f" for {purpose}" if purpose else ""
-        super().__init__(f"the optional package '{package}' is needed{extra}: pip install {package}")
+        super().__init__(f"the optional package '{package}' is needed{extra}: "
+                         f"pip install {package}")
         self.package = package

@@ -6,9 +6,9 @@ mid-edge nodes of edges (0,1), (1,2), (0,2), (0,3), (1,3), (2,3).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
-from typing import Mapping
 
 import numpy as np
 

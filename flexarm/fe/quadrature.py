@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 from scipy.special import roots_jacobi, roots_legendre
@@ -10,7 +10,7 @@ from scipy.special import roots_jacobi, roots_legendre
 __all__ = ["tet_quadrature"]
 
 
-@lru_cache(maxsize=None)
+@cache
 def tet_quadrature(degree: int) -> tuple[np.ndarray, np.ndarray]:
     """Points (q, 3) and weights (q,) exact for polynomials up to ``degree``.
 

@@ -15,5 +15,5 @@ ArrayLike = npt.ArrayLike
 FloatArray = npt.NDArray[np.float64]
 IntArray = npt.NDArray[np.int64]
 BoolArray = npt.NDArray[np.bool_]
-Sparse = Union[sp.csr_matrix, sp.csc_matrix, sp.csr_array, sp.csc_array]
+Sparse = sp.csr_matrix | sp.csc_matrix | sp.csr_array | sp.csc_array
 PathType = Union[str, "PathLike[str]"]

@@ -16,7 +16,6 @@ from ..fe.errors import InterfaceError
 from ..fe.mesh import TetMesh
 from ..fe.tolerances import tol
 from ..fe.typing import ArrayLike, FloatArray, IntArray
-from ..fe.tolerances import tol
 
 __all__ = [
     "CylinderRegion",

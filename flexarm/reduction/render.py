@@ -18,9 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from ..fe.errors import FlexarmError, MissingDependencyError
+from ..fe.tolerances import tol
 from .recovery import mode_shape
 from .superelement import Superelement
-from ..fe.tolerances import tol
 
 __all__ = ["render_backend", "has_display", "render_field", "render_mode"]
 
@@ -80,6 +80,24 @@ def _surface(se: Superelement):
     return pv.PolyData(np.asarray(se.surface_points, dtype=float), faces)
 
 
+def _picture_suffix(path, interactive: bool) -> str:
+    """Check a picture target and return its suffix (``""`` without a file).
+
+    A file must be ``.png`` or ``.gif`` (then the off-screen backend is chosen);
+    ``interactive`` needs a display; one of the two must be asked for.
+    """
+    if interactive and not has_display():
+        raise FlexarmError("--interactive needs a display (DISPLAY or WAYLAND_DISPLAY is unset)")
+    if path is None and not interactive:
+        raise ValueError("give an output path (.png or .gif) or interactive=True")
+    suffix = Path(path).suffix.lower() if path is not None else ""
+    if path is not None and suffix not in (".png", ".gif"):
+        raise ValueError(f"picture must be .png or .gif, got '{path}'")
+    if path is not None:
+        render_backend()
+    return suffix
+
+
 def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
                  amplitude: float = 0.1, n_frames: int = 24, interactive: bool = False,
                  window_size=(1024, 768)) -> Path | None:
@@ -94,15 +112,7 @@ def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
     interactive : bool
         Also open a window (only when :func:`has_display`).
     """
-    if interactive and not has_display():
-        raise FlexarmError("--interactive needs a display (DISPLAY or WAYLAND_DISPLAY is unset)")
-    if path is None and not interactive:
-        raise ValueError("give an output path (.png or .gif) or interactive=True")
-    suffix = Path(path).suffix.lower() if path is not None else ""
-    if path is not None and suffix not in (".png", ".gif"):
-        raise ValueError(f"picture must be .png or .gif, got '{path}'")
-    if path is not None:
-        render_backend()
+    suffix = _picture_suffix(path, interactive)
     import pyvista as pv
 
     surf = _surface(se)

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...fe.geometry import rigid_transport
 from ...fe.typing import ArrayLike, FloatArray
 from ..analyses import tcp_compliance
 from ..kinematics import tcp_frame
@@ -52,18 +53,12 @@ def linear_solver(arm: ArmModel, q: FloatArray, wrench: FloatArray) -> FloatArra
     return np.einsum("nij,knj->kni", tcp_compliance(arm, q), wrench)
 
 
-def _skew(r: FloatArray) -> FloatArray:
-    S = np.zeros(r.shape[:-1] + (3, 3))
-    S[..., 0, 1], S[..., 0, 2], S[..., 1, 2] = -r[..., 2], r[..., 1], -r[..., 0]
-    return S - np.swapaxes(S, -1, -2)
-
-
 def _transfer(lever: FloatArray) -> FloatArray:
-    """(..., 3, 6) map TCP motion (u, theta) -> motion of a point at ``lever`` from the TCP."""
-    A = np.zeros(lever.shape[:-1] + (3, 6))
-    A[..., :, :3] = np.eye(3)
-    A[..., :, 3:] = -_skew(lever)
-    return A
+    """(..., 3, 6) map TCP motion (u, theta) -> motion of a point at ``lever`` from the TCP.
+
+    The translational rows ``[I, -skew(lever)]`` of :func:`~flexarm.fe.geometry.rigid_transport`.
+    """
+    return np.ascontiguousarray(rigid_transport(lever)[..., :3, :])
 
 
 @dataclass(frozen=True, eq=False)

@@ -1,0 +1,112 @@
+"""Plots of the whole-arm accuracy study (:mod:`flexarm.assembly.study`).
+
+``arm_study_error_vs_dof.png`` (log-log error against DOF) and ``arm_study_pareto.png``
+(error against build + solve time).  matplotlib is imported inside the functions.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..fe.files import atomic_path
+
+if TYPE_CHECKING:
+    from .study import StudyResult
+
+__all__ = ["plot_error_vs_dof", "plot_pareto"]
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def plot_error_vs_dof(path, result: StudyResult) -> Path:
+    """Log-log PNG: worst frequency / compliance error against reduced DOF (top) and
+    against link FE DOF (bottom); one line per mesh and representation (top) or per
+    representation and mode count (bottom)."""
+    plt = _pyplot()
+    rows = result.rows
+    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
+    sizes = sorted({r.mesh_size for r in rows}, reverse=True)
+    reps = list(dict.fromkeys(r.coupling for r in rows))
+    floor = 1e-9
+    for col, (attr, what) in enumerate((("freq_err_max", "first frequencies"),
+                                        ("C_err_max", "TCP compliance diagonal"))):
+        ax = axes[0, col]
+        for j, h in enumerate(sizes):
+            for i, rep in enumerate(reps):
+                sel = sorted((r for r in rows if r.mesh_size == h and r.coupling == rep),
+                             key=lambda r: r.n_reduced)
+                if sel:
+                    ax.loglog([r.n_reduced for r in sel],
+                              [max(getattr(r, attr), floor) for r in sel],
+                              ["-", "--", "-.", ":"][j % 4], marker="o", color=f"C{i}",
+                              label=f"{rep}, {h * 1e3:.0f} mm")
+        ax.set(xlabel="reduced arm DOF", ylabel=f"largest relative error, {what} (floor 1e-9)")
+        ax = axes[1, col]
+        for i, (rep, n) in enumerate(dict.fromkeys((r.coupling, r.n_modes) for r in rows)):
+            sel = sorted((r for r in rows if r.coupling == rep and r.n_modes == n),
+                         key=lambda r: r.n_fe_dofs)
+            ax.loglog([r.n_fe_dofs for r in sel], [max(getattr(r, attr), floor) for r in sel],
+                      "-", marker="s", color=f"C{reps.index(rep)}", alpha=0.4 + 0.6 * (i % 4) / 3,
+                      label=f"{rep} {sel[0].label}")
+        ax.set(xlabel="link FE DOF (3 x nodes)", ylabel=f"largest relative error, {what}")
+    from matplotlib.ticker import NullFormatter
+
+    for ax in axes.ravel():
+        ax.xaxis.set_minor_formatter(NullFormatter())  # narrow log ranges: no clutter
+        ax.axhline(0.01, color="grey", lw=0.8, ls=":")
+        ax.axhline(0.001, color="grey", lw=0.8, ls=":")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7, ncol=2)
+    ref = result.reference
+    fig.suptitle(f"Arm accuracy at {result.pose} vs full FE ({ref.n_dofs} DOF, "
+                 f"{ref.mesh_size * 1e3:.0f} mm, {ref.coupling})")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return Path(path)
+
+
+def plot_pareto(path, result: StudyResult) -> Path:
+    """PNG: worst error against build + solve time, Pareto front drawn as a step line."""
+    plt = _pyplot()
+    rows = sorted(result.rows, key=lambda r: (r.seconds, r.error))
+    fig, ax = plt.subplots(figsize=(9, 6))
+    reps = list(dict.fromkeys(r.coupling for r in result.rows))
+    floor = 1e-9
+    for i, rep in enumerate(reps):
+        sel = [r for r in rows if r.coupling == rep]
+        ax.loglog([max(r.seconds, 1e-4) for r in sel], [max(r.error, floor) for r in sel], "o",
+                  color=f"C{i}", label=rep)
+    front, best = [], np.inf
+    for r in rows:
+        if r.error < best * (1 - 1e-6):  # strictly better (ties are not on the front)
+            best = r.error
+            front.append(r)
+    ax.step([max(r.seconds, 1e-4) for r in front], [max(r.error, floor) for r in front], "k-",
+            where="post", lw=1, label="Pareto front")
+    for r in front:
+        ax.annotate(f"{r.label} {r.coupling} {r.mesh_size * 1e3:.0f} mm", (max(r.seconds, 1e-4),
+                    max(r.error, floor)), fontsize=7, xytext=(4, 4), textcoords="offset points")
+    ax.axhline(0.01, color="grey", lw=0.8, ls=":")
+    ax.axhline(0.001, color="grey", lw=0.8, ls=":")
+    ax.set(xscale="log", yscale="log", xlabel="build + solve time [s]",
+           ylabel="max(frequency error, compliance error) [-]",
+           title=f"Arm study at {result.pose}: accuracy against cost")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=110, format="png")
+    plt.close(fig)
+    return Path(path)
