@@ -101,8 +101,8 @@ def write_report(folder, cmp: Comparison) -> list[Path]:
     fmag = np.linalg.norm(data.force, axis=1)
     n = len(pb.groups)
     cols = min(n, 6)
-    fig, axes = plt.subplots(-(-n // cols), cols, figsize=(3 * cols, 2.4 * -(-n // cols)),
-                             squeeze=False)
+    rows = -(-n // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(3 * cols, 2.4 * rows), squeeze=False)
     for ax, g in zip(axes.ravel(), pb.groups, strict=False):
         for k, c in enumerate("xyz"):
             ax.plot(fmag[g], data.disp[g, k] * 1e3, "o", ms=3, color=f"C{k}", label=f"{c} meas")
@@ -111,7 +111,10 @@ def write_report(folder, cmp: Comparison) -> list[Path]:
         ax.tick_params(labelsize=7)
     axes[0, 0].set_ylabel("deflection [mm]")
     axes[0, 0].legend(fontsize=6)
-    fig.tight_layout()
+    fig.supxlabel("load |F| [N]  (points: measured, lines: model)", fontsize=8)
+    # Fixed margins: tight_layout over dozens of panels costs seconds per figure.
+    fig.subplots_adjust(left=0.05, right=0.99, bottom=0.4 / rows, top=1 - 0.25 / rows,
+                        wspace=0.35, hspace=0.45)
     out.append(folder / "deflection_vs_force.png")
     fig.savefig(out[-1], dpi=90)
     plt.close(fig)
