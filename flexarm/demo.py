@@ -322,7 +322,7 @@ def _flexible_step(out: Path, report: DemoReport, progress: Progress) -> None:
     m = stiffness_map(arm, robot.pose("P1"), np.linspace(lo[1], hi[1], 40),
                       np.linspace(lo[2], hi[2], 40))
     write_csv(out / "flexible_map.csv", m)
-    pngs = plot_map(m, out / "flexible_map")
+    pngs = plot_map(m, out / "flexible_map", surfaces=False)
     share_y = float(np.mean(m.least_stiff == 1))
     report.figures["flexible_map_y_weakest_share"] = share_y
     pictures = _arm_pictures(out, robot, arm, builds)
@@ -346,7 +346,7 @@ def _flexible_step(out: Path, report: DemoReport, progress: Progress) -> None:
         "  ![error vs DOF](study/arm_study_error_vs_dof.png) ![Pareto](study/arm_study_pareto.png)",
         f"- Flexible stiffness map: [flexible_map.csv](flexible_map.csv); Y is the least stiff "
         f"direction on {share_y * 100:.1f}% of the grid.",
-        *[f"  - ![{p.stem}](flexible_map/{p.name})" for p in pngs if "heat" in p.name],
+        *[f"  - ![{p.stem}](flexible_map/{p.name})" for p in pngs],
         *pictures,
         "",
     ]
@@ -365,7 +365,7 @@ def _arm_pictures(out: Path, robot, arm, builds) -> list[str]:
 
         q = robot.pose("P1")
         render_arm_mode(robot, q, 1, out / "arm_P1_mode1.gif", arm=arm, builds=builds,
-                        pose_name="P1", ellipsoid=True, n_frames=12)
+                        pose_name="P1", ellipsoid=True, n_frames=10)
         render_arm_mode(robot, q, 2, out / "arm_P1_mode2.png", arm=arm, builds=builds,
                         pose_name="P1")
         return ["- Mode shapes at P1 (links recovered to the full field, TCP compliance "

@@ -134,8 +134,8 @@ def write_csv(path, m: JointSpaceMap) -> Path:
     return path
 
 
-def plot_map(m: JointSpaceMap, folder) -> list[Path]:
-    """Heat maps and 3-D surfaces (PNG) of K_xx, K_yy, K_zz and f1 into ``folder``."""
+def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
+    """Heat maps and (``surfaces``) 3-D surfaces (PNG) of K_xx, K_yy, K_zz and f1."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -159,6 +159,9 @@ def plot_map(m: JointSpaceMap, folder) -> list[Path]:
         p = folder / f"map_{name}_heat.png"
         fig.savefig(p, dpi=100)
         plt.close(fig)
+        out.append(p)
+        if not surfaces:
+            continue
         fig = plt.figure(figsize=(6, 4.5))
         ax3 = fig.add_subplot(projection="3d")
         ax3.plot_surface(B, A, Z, cmap="viridis")
@@ -168,5 +171,5 @@ def plot_map(m: JointSpaceMap, folder) -> list[Path]:
         p3 = folder / f"map_{name}_surface.png"
         fig.savefig(p3, dpi=100)
         plt.close(fig)
-        out += [p, p3]
+        out.append(p3)
     return out
