@@ -82,7 +82,7 @@ class ComparisonReport:
         lines = []
         for d in self.rows():
             fs = " ".join(f"{d[k]:7.2f}" for k in d if k.endswith("_Hz"))
-            lines.append(f"{d['pose']:>4} {d['model']:<14} {d['n_dofs']:>7} | {fs} | C mm/kN "
+            lines.append(f"{d['pose']:>4} {d['model']:<18} {d['n_dofs']:>7} | {fs} | C mm/kN "
                          f"{d['Cxx_mm_per_kN']:.4f} {d['Cyy_mm_per_kN']:.4f} "
                          f"{d['Czz_mm_per_kN']:.4f} | err f {d['max_f_err_pct']:.3f}% "
                          f"C {d['max_C_err_pct']:.3f}%")
@@ -135,6 +135,10 @@ def compare_models(
 ) -> ComparisonReport:
     """Compare E-model, Guyan, CB(n), CB + coupled wrist and full FE at ``poses``.
 
+    When the robot has equivalent E-model joints, the bearing-only E-model is shown too:
+    it is the flexible models' assembly with rigid links, so its difference from CB is
+    link flexibility alone.
+
     Parameters
     ----------
     robot : Robot
@@ -160,8 +164,13 @@ def compare_models(
     b_cb = build_robot(robot, cb, mesher=mesher, progress=say)
     say("building Guyan links")
     b_gy = build_robot(robot, gy, mesher=mesher, progress=say)
-    models = {"E-model": emodel(robot, mass_method, cb.mesh_size),
-              "Guyan": flexible_arm(robot, gy, b_gy), cb.label: flexible_arm(robot, cb, b_cb)}
+    # Two E-models: with the equivalent joints (bearing in series with link bending, the
+    # lumped model a user identifies) and with the bearing-only joints of the flexible
+    # models, so "E-model (bearing)" vs CB differs by link flexibility alone.
+    models = {"E-model": emodel(robot, mass_method, cb.mesh_size)}
+    if any(j.emodel is not None for j in robot.joints):
+        models["E-model (bearing)"] = emodel(robot, mass_method, cb.mesh_size, equivalent=False)
+    models.update({"Guyan": flexible_arm(robot, gy, b_gy), cb.label: flexible_arm(robot, cb, b_cb)})
     if robot.chain.n_joints >= 6:
         models[f"{cb.label}+wrist"] = flexible_arm(robot, cb, b_cb, coupled_wrist=True)
     fb = full_fe_bodies(robot, cb, mesher, say) if full_fe else None
