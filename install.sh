@@ -28,4 +28,7 @@ fi
 extras=""
 if [ "${1:-}" = "--test" ]; then extras="[test]"; fi
 python -m pip install --disable-pip-version-check -q -e ".${extras}"
+# An editable install is never byte-compiled, and PYTHONDONTWRITEBYTECODE may forbid it at
+# run time: compile once here so every flexarm command starts faster.
+python -m compileall -q flexarm >/dev/null || true
 echo "install.sh: flexarm installed ($(python -c 'import flexarm; print(flexarm.__version__)'))"

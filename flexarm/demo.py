@@ -187,7 +187,7 @@ def _emodel_step(out: Path, report: DemoReport, progress: Progress) -> None:
     lo, hi = robot.lower, robot.upper
     m = stiffness_map(arm, q1, np.linspace(lo[1], hi[1], 60), np.linspace(lo[2], hi[2], 60))
     write_csv(out / "emodel_map.csv", m)
-    pngs = plot_map(m, out / "emodel_map")
+    pngs = plot_map(m, out / "emodel_map", surfaces=False)
     share_y = float(np.mean(m.least_stiff == 1))
     report.figures["emodel_map_y_weakest_share"] = share_y
     report.lines += [
