@@ -319,8 +319,8 @@ def _flexible_step(out: Path, report: DemoReport, progress: Progress) -> None:
 
     progress("arm: flexible stiffness map over (q2, q3) and mode pictures")
     lo, hi = robot.lower, robot.upper
-    m = stiffness_map(arm, robot.pose("P1"), np.linspace(lo[1], hi[1], 40),
-                      np.linspace(lo[2], hi[2], 40))
+    m = stiffness_map(arm, robot.pose("P1"), np.linspace(lo[1], hi[1], 30),
+                      np.linspace(lo[2], hi[2], 30))
     write_csv(out / "flexible_map.csv", m)
     pngs = plot_map(m, out / "flexible_map", surfaces=False)
     share_y = float(np.mean(m.least_stiff == 1))
