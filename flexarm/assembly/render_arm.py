@@ -27,7 +27,7 @@ import numpy as np
 
 from ..fe.typing import ArrayLike, FloatArray, IntArray
 from ..reduction.couplings import rigid_transport
-from ..reduction.render import _picture_suffix
+from ..reduction.render import _picture_suffix, save_picture
 from .build import LinkBuild
 from .flexible import body_coordinates
 from .robot import Robot
@@ -177,7 +177,7 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
     interactive : bool
         Also open a window (needs :func:`~flexarm.reduction.render.has_display`).
     """
-    suffix = _picture_suffix(path, interactive)
+    _picture_suffix(path, interactive)
     import pyvista as pv
 
     live = [f for f in fields if len(f.points)]
@@ -211,17 +211,12 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
     out = None
     if path is not None:
         p, moving = scene(True)
-        out = Path(path)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        if suffix == ".png":
-            p.screenshot(str(out))
-        else:
-            p.open_gif(str(out))
-            for phase in np.sin(2 * np.pi * np.arange(n_frames) / n_frames):
-                for m, f in moving:
-                    m.points = f.points + phase * scale * f.u
-                p.write_frame()
-        p.close()
+
+        def move(phase):
+            for m, f in moving:
+                m.points = f.points + phase * scale * f.u
+
+        out = save_picture(p, path, n_frames, move)
     if interactive:
         scene(False)[0].show()
     return out

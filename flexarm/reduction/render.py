@@ -98,6 +98,25 @@ def _picture_suffix(path, interactive: bool) -> str:
     return suffix
 
 
+def save_picture(plotter, path, n_frames: int, move) -> Path:
+    """Write ``plotter`` to ``path``: a ``.png`` still, or a ``.gif`` of one oscillation.
+
+    ``move(phase)`` sets the deformed meshes for ``phase`` in [-1, 1] (one call per frame).
+    The plotter is closed afterwards.
+    """
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    if out.suffix.lower() == ".png":
+        plotter.screenshot(str(out))
+    else:
+        plotter.open_gif(str(out))
+        for phase in np.sin(2 * np.pi * np.arange(n_frames) / n_frames):
+            move(phase)
+            plotter.write_frame()
+    plotter.close()
+    return out
+
+
 def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
                  amplitude: float = 0.1, n_frames: int = 24, interactive: bool = False,
                  window_size=(1024, 768)) -> Path | None:
@@ -112,7 +131,7 @@ def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
     interactive : bool
         Also open a window (only when :func:`has_display`).
     """
-    suffix = _picture_suffix(path, interactive)
+    _picture_suffix(path, interactive)
     import pyvista as pv
 
     surf = _surface(se)
@@ -132,16 +151,11 @@ def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
         p.add_title(title, font_size=12)
         p.view_isometric()
         p.camera.zoom(1.1)
-        out = Path(path)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        if suffix == ".png":
-            p.screenshot(str(out))
-        else:
-            p.open_gif(str(out))
-            for phase in np.sin(2 * np.pi * np.arange(n_frames) / n_frames):
-                moved.points = base + phase * scale * us  # one update per frame
-                p.write_frame()
-        p.close()
+
+        def move(phase):
+            moved.points = base + phase * scale * us
+
+        out = save_picture(p, path, n_frames, move)
     if interactive:
         moved.points = base + scale * us
         q = pv.Plotter()
