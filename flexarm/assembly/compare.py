@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fe.plotting import pyplot
 from ..fe.typing import FloatArray
 from .analyses import frf, natural_frequencies, tcp_compliance
 from .build import BuildOptions, Mesher, build_robot
@@ -90,10 +91,7 @@ class ComparisonReport:
 
 
 def _write(report: ComparisonReport, out: Path, poses: list[str]) -> tuple[Path, ...]:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     out.mkdir(parents=True, exist_ok=True)
     rows = report.rows()

@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..fe.files import atomic_path
+from ..fe.plotting import pyplot
 from ..fe.typing import ArrayLike, FloatArray
 from .analyses import natural_frequencies, tcp_compliance
 from .system import ArmModel
@@ -136,10 +137,7 @@ def write_csv(path, m: JointSpaceMap) -> Path:
 
 def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
     """Heat maps and (``surfaces``) 3-D surfaces (PNG) of K_xx, K_yy, K_zz and f1."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

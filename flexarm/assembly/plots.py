@@ -6,23 +6,16 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fe.plotting import pyplot
 from ..fe.typing import FloatArray
 
 __all__ = ["plot_frf", "plot_mode_energy"]
 
 
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
 
 def plot_frf(path, freq_hz: FloatArray, H: FloatArray, title: str = "") -> Path:
     """Bode plot of the direct TCP receptances H_xx, H_yy, H_zz [mm/N] (nf, 6, 6)."""
-    plt = _plt()
+    plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
     for d, name in enumerate("xyz"):
         h = H[:, d, d]
@@ -44,7 +37,7 @@ def plot_frf(path, freq_hz: FloatArray, H: FloatArray, title: str = "") -> Path:
 
 def plot_mode_energy(path, freq_hz: FloatArray, energy: FloatArray, joint_names) -> Path:
     """Stacked bars: share of each mode's strain energy per joint."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4))
     x = np.arange(len(freq_hz))
     bottom = np.zeros(len(freq_hz))

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..fe.files import atomic_path
+from ..fe.plotting import pyplot
 
 if TYPE_CHECKING:
     from .study import StudyResult
@@ -19,20 +20,12 @@ if TYPE_CHECKING:
 __all__ = ["plot_error_vs_dof", "plot_pareto"]
 
 
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
 
 def plot_error_vs_dof(path, result: StudyResult) -> Path:
     """Log-log PNG: worst frequency / compliance error against reduced DOF (top) and
     against link FE DOF (bottom); one line per mesh and representation (top) or per
     representation and mode count (bottom)."""
-    plt = _pyplot()
+    plt = pyplot()
     rows = result.rows
     fig, axes = plt.subplots(2, 2, figsize=(12, 9))
     sizes = sorted({r.mesh_size for r in rows}, reverse=True)
@@ -79,7 +72,7 @@ def plot_error_vs_dof(path, result: StudyResult) -> Path:
 
 def plot_pareto(path, result: StudyResult) -> Path:
     """PNG: worst error against build + solve time, Pareto front drawn as a step line."""
-    plt = _pyplot()
+    plt = pyplot()
     rows = sorted(result.rows, key=lambda r: (r.seconds, r.error))
     fig, ax = plt.subplots(figsize=(9, 6))
     reps = list(dict.fromkeys(r.coupling for r in result.rows))

@@ -28,6 +28,7 @@ from ..fe.eigen import modes, shift_invert, static_solve
 from ..fe.files import atomic_path
 from ..fe.material import Material
 from ..fe.mesh import TetMesh
+from ..fe.plotting import pyplot
 from .craig_bampton import craig_bampton
 from .interfaces import CylinderRegion
 from .reduce import CoupledModel, coupled_model
@@ -173,10 +174,7 @@ def write_csv(path, rows: list[StudyRow]) -> Path:
 def plot_study(path, rows: list[StudyRow]) -> Path:
     """Log-log PNG: frequency error vs reduced DOF per mesh/representation; time on the
     right axis (dotted)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, ax = plt.subplots(figsize=(9, 6))
     tax = ax.twinx()

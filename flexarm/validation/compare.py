@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from ..assembly.system import ArmModel
+from ..fe.plotting import pyplot
 from ..fe.tolerances import tol
 from .fit import Problem, chi2_band
 from .measurements import StaticData
@@ -85,10 +86,7 @@ def compare_static(arm: ArmModel, data: StaticData, effects=(),
 
 def write_report(folder, cmp: Comparison) -> list[Path]:
     """Write ``errors.csv`` and the plots (matplotlib, Agg) into ``folder``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

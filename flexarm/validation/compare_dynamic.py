@@ -20,6 +20,7 @@ import numpy as np
 
 from ..assembly.analyses import frf
 from ..assembly.system import ArmModel
+from ..fe.plotting import pyplot
 from ..fe.tolerances import tol
 from .effects import apply_effects
 from .fit import chi2_band
@@ -127,10 +128,7 @@ def _write_csv(path: Path, rows: list) -> None:
 
 def write_modal_report(folder, cmp: ModalComparison) -> list[Path]:
     """``modal_errors.csv`` and ``frequency_errors.png`` (bars per pose and mode)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
@@ -158,10 +156,7 @@ def write_modal_report(folder, cmp: ModalComparison) -> list[Path]:
 
 def write_frf_report(folder, cmp: FrfComparison) -> list[Path]:
     """``frf_errors.csv`` and ``frf_overlay.png`` (magnitude and phase per pair)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

@@ -21,6 +21,7 @@ import tomllib
 from ..assembly.robot import BaseSupport, Robot
 from ..assembly.system import ArmModel
 from ..fe.files import atomic_path
+from ..fe.plotting import pyplot
 from .effects import Effect, apply_effects, resolve
 
 __all__ = ["robot_with_effects", "write_robot", "read_robot_effects", "write_history"]
@@ -115,10 +116,7 @@ def read_robot_effects(path) -> tuple[Robot, list[Effect]]:
 
 def write_history(folder, diagnosis) -> list[Path]:
     """``history.csv``, ``history.json`` and ``history.png``: error of each model version."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...fe.plotting import pyplot
 from .ball_bar import CirclePrediction
 from .chatter_map import ChatterMap
 
@@ -13,19 +14,11 @@ __all__ = ["plot_circle_top", "plot_circle_polar", "plot_circle_z", "plot_chatte
            "plot_chatter_orbit", "plot_chatter_map"]
 
 
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
 
 def _save(fig, path) -> Path:
     path = Path(path)
     fig.savefig(path, dpi=110, bbox_inches="tight")
-    _plt().close(fig)
+    pyplot().close(fig)
     return path
 
 
@@ -48,7 +41,7 @@ def plot_circle_top(pred: CirclePrediction, path, scale: float | None = None,
     of the radius).  ``compare`` = ``[(label, CirclePrediction)]`` of other models on
     the same setup and loads, drawn dashed in the same colours; ``label`` names ``pred``.
     """
-    plt = _plt()
+    plt = pyplot()
     s = pred.setup
     runs = _runs(pred, label, compare)
     dmax = max(np.abs(p.deviation).max() for _l, p, _s in runs)
@@ -79,7 +72,7 @@ def plot_circle_polar(pred: CirclePrediction, path, measured=None, label: str = 
     :func:`~flexarm.assembly.contact.ball_bar.measured_deviation`, drawn as dots
     (coloured by force).  ``compare`` as in :func:`plot_circle_top`.
     """
-    plt = _plt()
+    plt = pyplot()
     s = pred.setup
     runs = _runs(pred, label, compare)
     span = max(max(np.abs(p.bar).max() for _l, p, _s in runs) * 1e6, 1.0)
@@ -116,7 +109,7 @@ def _measured_dots(ax, pred: CirclePrediction, x, y, force) -> None:
 def plot_circle_z(pred: CirclePrediction, path, measured=None, label: str = "",
                   compare=()) -> Path:
     """Deviation along the circle normal (base z for horizontal circles) vs polar angle."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 4))
     order = np.argsort(pred.setup.angles)  # the path starts anywhere: plot by angle
     a = np.degrees(pred.setup.angles)[order]
@@ -135,7 +128,7 @@ def plot_circle_z(pred: CirclePrediction, path, measured=None, label: str = "",
 
 def plot_chatter_time(runs, path) -> Path:
     """Time histories ``runs = [(label, t (n,), x (n, 2))]`` of the plane coordinates [um]."""
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(len(runs), 1, figsize=(8, 2.8 * len(runs)), squeeze=False)
     for ax, (label, t, x) in zip(axes[:, 0], runs, strict=True):
         ax.plot(t, x[:, 0] * 1e6, label="x1 (e1)")
@@ -150,7 +143,7 @@ def plot_chatter_time(runs, path) -> Path:
 
 def plot_chatter_orbit(runs, path) -> Path:
     """Tool orbits in the machining plane, one panel per run (thesis Figs 4.30/4.31)."""
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(runs), figsize=(5 * len(runs), 5), squeeze=False)
     for ax, (label, _t, x) in zip(axes[0], runs, strict=True):
         ax.plot(x[:, 0] * 1e6, x[:, 1] * 1e6, lw=0.6)
@@ -164,7 +157,7 @@ def plot_chatter_orbit(runs, path) -> Path:
 
 def plot_chatter_map(cm: ChatterMap, path) -> Path:
     """Heat map of log10(limit K_c b) over (q2, q3); grey = no limit, white = unreachable."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 5.5))
     val = np.where(np.isinf(cm.kcb), np.nan, np.log10(cm.kcb))
     ext = np.degrees([cm.q3[0], cm.q3[-1], cm.q2[0], cm.q2[-1]])
