@@ -294,8 +294,12 @@ def validate(robot: Robot) -> None:
         if W.shape != (3, 3) or not np.allclose(W, W.T) or np.linalg.eigvalsh(W).min() <= 0:
             raise ValueError("wrist.stiffness must be a symmetric positive definite 3x3 matrix")
     if robot.wrist_coupling is not None:
-        if np.asarray(robot.wrist_coupling, dtype=float).shape != (3, 3):
+        Cw = np.asarray(robot.wrist_coupling, dtype=float)
+        if Cw.shape != (3, 3):
             raise ValueError("wrist.coupling must be a 3x3 matrix")
+        if not np.all(np.isfinite(Cw)) or abs(np.linalg.det(Cw)) < 1e-9:
+            # motor_to_joint inverts it; C^T diag(k) C would not be positive definite
+            raise ValueError("wrist.coupling must be an invertible 3x3 matrix")
 
 
 def pose_from_string(robot: Robot, text: str) -> FloatArray:

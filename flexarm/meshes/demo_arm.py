@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["LINKS", "link_solids", "write_stl", "robot_dict", "generate", "demo_robot_path",
-           "load_demo_robot"]
+__all__ = ["LINKS", "link_solids", "write_stl", "robot_dict", "wrist_coupling", "generate",
+           "demo_robot_path", "load_demo_robot"]
 
 log = logging.getLogger(__name__)
 
@@ -224,6 +224,63 @@ POSES_DEG = {
 }
 #: TCP: a 150 mm tool on the flange, tool z along the flange normal (like ROS tool0).
 TOOL = {"xyz": [0.15, 0.0, 0.0], "rpy_deg": [0.0, 90.0, 0.0], "link": "turning_disc"}
+#: Wrist drive trains [-]: joints 5 and 6 are driven from motors at the rear of the arm
+#: housing by concentric shafts through the hollow joint-4 tube shaft.  ``motor_stage``:
+#: spur stage from the (offset) motor onto its drive shaft, inside the arm housing;
+#: ``bevel_45``: bevel pair from the tube axis (x) onto the joint-5 axis (y), an idler on
+#: the joint-5 axis for joint 6; ``bevel_56``: bevel pair from the joint-5 axis onto the
+#: joint-6 axis (x) inside the tilt housing; ``reducer``: the joint's own reducer.  The
+#: products equal the joints' ``gear_ratio`` (80 and 50).  See :func:`wrist_coupling`.
+WRIST_TRAINS = {
+    "joint_5": {"motor_stage": 2.0, "bevel_45": 1.0, "reducer": 40.0},
+    "joint_6": {"motor_stage": 2.0, "bevel_45": 1.25, "bevel_56": 1.0, "reducer": 20.0},
+}
+
+
+def wrist_coupling() -> list[list[float]]:
+    """(3, 3) joint-to-motor coupling ``C`` of joints 4-6 [-] (``robot.toml [wrist]``).
+
+    Convention of :class:`~flexarm.assembly.kinematics.Chain`: motor angle
+    ``theta_m = n * (C @ q)`` on the wrist block, ``n`` the gear ratios (80, 80, 50).
+
+    Derivation (angles [rad]; every shaft angle relative to the body carrying its
+    bearings; the stage ratios ``WRIST_TRAINS`` are input/output speed ratios [-]):
+
+    * Joint 4: motor 4 drives the tube shaft through its own gearbox in the arm housing,
+      ``theta_m4 = n4 q4``: row ``(1, 0, 0)``.
+    * Joint 5: the drive shaft turns ``phi5 = theta_m5 / a5`` in the arm housing
+      (motor stage ``a5``), i.e. ``phi5 - q4`` relative to the tube shaft that carries the
+      bevel pair and the reducer, so ``q5 = (phi5 - q4) / N5`` with the wrist-side ratio
+      ``N5 = b45 r5 = 40``.  Hence ``theta_m5 = n5 (q5 + q4 / N5)``: ``c54 = 1/N5 = 0.025``.
+    * Joint 6: the shaft turns ``phi6 - q4`` in the tube shaft; the idler on the joint-5
+      axis turns ``psi = (phi6 - q4) / b45`` in the tube shaft and ``psi - q5`` in the tilt
+      housing; ``q6 = (psi - q5) / (b56 r6)``.  Hence ``theta_m6 = n6 (q6 + q5 / (b56 r6)
+      + q4 / (b45 b56 r6))``: ``c65 = 1/(b56 r6) = 0.05``, ``c64 = 1/N6 = 0.04``.
+
+    The couplings are the inverse *wrist-side* ratios (of order 1/gear ratio, because
+    the reduction sits at the wrist and the shafts run at near motor speed).  Their signs
+    are the sense of the bevel meshes, taken positive here.
+
+    The coupled wrist stiffness (:func:`~flexarm.assembly.flexible.coupled_wrist_stiffness`)
+    is ``K_w = C^T diag(k) C`` [N m/rad], with ``k = (3.0, 2.5, 1.5) 1e5 N m/rad`` the
+    joint-referred torsion stiffness of each drive train (its elastic twist with the
+    motor held is ``(C dq)_i``).  Hence ``K_66 = k6``; ``K_44 = k4 + c54^2 k5 + c64^2 k6``
+    and ``K_55 = k5 + c65^2 k6`` exceed ``k4, k5`` by 0.13 % and 0.15 %; the
+    off-diagonal terms ``K_45 = c54 k5 + c64 c65 k6 = 6550``, ``K_46 = c64 k6 = 6000``,
+    ``K_56 = c65 k6 = 7500 N m/rad`` are 2-4 % of ``sqrt(K_ii K_jj)``.  The compliance
+    ``K_w^-1 = C^-1 diag(1/k) C^-T`` keeps ``(K_w^-1)_44 = 1/k4`` exactly (C is unit lower
+    triangular) and gains the cross terms ``(K_w^-1)_45 = -c54/k4`` etc.  Only
+    ``coupling`` is written (no ``stiffness``), so the E-model and the default flexible
+    model keep the individual springs ``k``; ``flexible_arm(..., coupled_wrist=True)``
+    uses ``K_w``.  The model holds the motors (no rotor inertia coordinates), so the
+    coupling shifts the wrist modes (by up to 0.2-0.4 % in frequency at P1-P3) and changes the TCP
+    compliance (up to 1.2 % translational, 3 % rotational) but adds no modes.
+    """
+    t5, t6 = WRIST_TRAINS["joint_5"], WRIST_TRAINS["joint_6"]
+    c54 = 1.0 / (t5["bevel_45"] * t5["reducer"])
+    c65 = 1.0 / (t6["bevel_56"] * t6["reducer"])
+    c64 = 1.0 / (t6["bevel_45"] * t6["bevel_56"] * t6["reducer"])
+    return [[1.0, 0.0, 0.0], [c54, 1.0, 0.0], [c64, c65, 1.0]]
 
 
 def _region(h: Hub, ring: float = 0.015) -> dict:
@@ -286,6 +343,7 @@ def robot_dict() -> dict:
         "base": {"support": "clamped", "damping_ratio": 0.02},
         "tool": TOOL,
         "poses": POSES_DEG,
+        "wrist": {"coupling": wrist_coupling()},
         "links": links,
         "joints": joints,
     }
