@@ -202,6 +202,8 @@ def _add_demo(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", default="flexarm-demo", help="output folder")
     p.add_argument("--part", action="store_true",
                    help="also run the single-part pipeline (full FE modes of one cast link)")
+    p.add_argument("-j", "--jobs", type=int, default=2,
+                   help="processes (default 2: measurements run beside the arm steps; 1: in order)")
 
 
 @command("demo", "the main job on the built-in robot: tables and pictures in flexarm-demo/",
@@ -210,7 +212,7 @@ def _run_demo(args) -> int:
     from .demo import run_demo
 
     report = run_demo(args.output, progress=lambda s: print(s, file=sys.stderr),  # noqa: T201
-                      part=args.part)
+                      part=args.part, jobs=args.jobs)
     for key, value in report.figures.items():
         _print(f"{key:>28s}  {value:.6g}")
     _print(f"demo finished in {report.seconds:.1f} s: open {report.folder / 'index.md'}")

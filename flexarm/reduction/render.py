@@ -13,6 +13,7 @@ import logging
 import os
 import subprocess
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +23,8 @@ from ..fe.tolerances import tol
 from .recovery import mode_shape
 from .superelement import Superelement
 
-__all__ = ["render_backend", "has_display", "render_field", "render_mode"]
+__all__ = ["render_backend", "prefetch_render_backend", "has_display", "render_field",
+           "render_mode"]
 
 log = logging.getLogger(__name__)
 
@@ -38,13 +40,12 @@ def has_display() -> bool:
     return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
 
 
-@functools.lru_cache(maxsize=1)
-def render_backend() -> str:
-    """The VTK render window class that renders off-screen here ("" = VTK's default).
+# One probe at a time: a prefetch thread and the first picture must not both probe.
+_probe_lock = threading.Lock()
 
-    Sets ``VTK_DEFAULT_OPENGL_WINDOW`` for this process.  A user setting is probed
-    first and kept if it works.
-    """
+
+@functools.lru_cache(maxsize=1)
+def _probed_backend() -> str:
     import importlib.util
 
     for mod in ("pyvista", "imageio"):
@@ -68,6 +69,36 @@ def render_backend() -> str:
         "cannot render off-screen (tried " + ", ".join(tried) + "): install a GL library, "
         "e.g. 'apt-get install libegl1 libgl1-mesa-dri' or 'apt-get install libosmesa6'"
     )
+
+
+def render_backend() -> str:
+    """The VTK render window class that renders off-screen here ("" = VTK's default).
+
+    Sets ``VTK_DEFAULT_OPENGL_WINDOW`` for this process.  A user setting is probed
+    first and kept if it works.  The answer is cached for the process
+    (``render_backend.cache_clear()`` forgets it).
+    """
+    with _probe_lock:
+        return _probed_backend()
+
+
+render_backend.cache_clear = _probed_backend.cache_clear
+
+
+def prefetch_render_backend() -> None:
+    """Start :func:`render_backend`'s probe in a background thread and return at once.
+
+    The probe is a subprocess that imports PyVista and renders a sphere (~2 s); a job
+    that draws pictures late (``flexarm demo``) starts it early so nobody waits for
+    it.  Errors are not raised here: the first picture raises them.
+    """
+    def probe():
+        try:
+            render_backend()
+        except Exception:  # noqa: BLE001 - reported by the first real render_backend() call
+            pass
+
+    threading.Thread(target=probe, name="flexarm-render-probe", daemon=True).start()
 
 
 def _surface(se: Superelement):
