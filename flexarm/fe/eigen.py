@@ -15,6 +15,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from .block_eigen import block_shift_invert
 from .boundary import DofSplit
 from .errors import ConvergenceError
 from .solvers import Factor, factorize
@@ -113,14 +114,56 @@ def _single_threaded_blas():
     return threadpool_limits(1, user_api="blas")
 
 
-def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: int | None = None):
-    """Eigensolver: ARPACK in shift-invert mode around ``sigma`` [rad^2/s^2].
+#: Eigensolver methods of :func:`shift_invert`.
+METHODS = ("block", "arpack")
+
+
+def _check_residuals(K, M, w, v, limit: float) -> None:
+    """Raise :class:`ConvergenceError` unless every pair solves ``K x = lam M x``.
+
+    The test is the normwise backward error ``||K x - lam M x|| / ((||K|| + |lam| ||M||)
+    ||x||)`` (Frobenius norms): machine precision (~1e-16) for a converged pair whatever
+    the conditioning, while ``||K x - lam M x|| / ||K x||`` of the same pair is ~eps times
+    omega_max^2 / omega^2 (1e-10..1e-8 on a link).  It catches what the Krylov estimates
+    cannot see, such as a ``factor`` of some other matrix than ``K - sigma M``.
+    """
+    R = K @ v - (M @ v) * w
+    norm_k, norm_m = np.linalg.norm(K.data), np.linalg.norm(M.data)
+    scale = (norm_k + np.abs(w) * norm_m) * np.linalg.norm(v, axis=0)
+    eta = np.linalg.norm(R, axis=0) / np.maximum(scale, np.finfo(np.float64).tiny)
+    bad = np.flatnonzero(~(eta <= limit))
+    if bad.size:
+        raise ConvergenceError(
+            f"eigen-solve: {bad.size} of {w.size} modes fail the residual check (backward "
+            f"error up to {eta[bad].max():.1e} > {limit:.1e}); does the factor belong to "
+            "K - sigma M?", w, v)
+
+
+def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: int | None = None,
+                 method: str = "block", block_size: int | None = None):
+    """Eigensolver: shift-invert around ``sigma`` [rad^2/s^2], the modes nearest it.
 
     ``sigma=None`` uses :func:`auto_shift` (safe for free parts).  The returned callable
     ``solve(K, M, n, factor=None) -> Modes`` factorises ``K - sigma M`` once with the
     chosen backend, or reuses ``factor`` when given (it must factor ``K - sigma M``).
-    The start vector is fixed, so repeated calls give identical results.
+    The start vectors are fixed, so repeated calls give identical results.
+
+    Parameters
+    ----------
+    method : {"block", "arpack"}
+        ``"block"`` (default): our thick-restart block Lanczos
+        (:func:`flexarm.fe.block_eigen.block_shift_invert`), a block of ``block_size``
+        right-hand sides per solve; ``"arpack"``: SciPy's ``eigsh`` (ARPACK), one solve
+        at a time.  Both converge to machine precision (``tol.arpack = 0``) and pass the
+        same residual check.
+    ncv : int, optional
+        Largest Krylov basis (ARPACK's ``ncv``; the block method's ``basis_size``).
+    block_size : int, optional
+        Right-hand sides per solve of the block method (default
+        :func:`flexarm.fe.block_eigen.default_block_size`).
     """
+    if method not in METHODS:
+        raise ValueError(f"eigen method must be one of {', '.join(METHODS)}, got '{method}'")
 
     def solve(K, M, n: int, factor: Factor | None = None) -> Modes:
         K = sp.csr_matrix(K)
@@ -135,26 +178,43 @@ def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: in
         if factor is None:
             A = (K - s * M) if s != 0.0 else K
             factor = factorize(A, backend=backend, spd=s <= 0.0)
-        v0 = np.random.default_rng(0).standard_normal(size)
-        k_ncv = ncv or min(size - 1, max(2 * n + 1, 20))
-        try:
-            # ARPACK's work is many BLAS-1/2 calls on long vectors: threads only contend
-            # (measured 5.6 s -> 0.7 s on 14.6k DOF, 20 modes, 2 cores).
-            with _single_threaded_blas():
-                w, v = spla.eigsh(
-                    K, k=n, M=M, sigma=s, which="LM", OPinv=factor.as_operator(),
-                    v0=v0, ncv=k_ncv, tol=tol.arpack,
-                )
-        except spla.ArpackNoConvergence as exc:
-            raise ConvergenceError(
-                f"ARPACK converged {len(exc.eigenvalues)} of {n} modes",
-                exc.eigenvalues, exc.eigenvectors,
-            ) from None
+        # The Krylov vector work is BLAS on long vectors or thin blocks: on shared cores
+        # threads only contend (ARPACK: 5.6 s -> 0.7 s on 14.6k DOF, 20 modes, 2 cores).
+        # MKL, which runs PARDISO's solves, is limited with it (see benchmarks/README.md).
+        with _single_threaded_blas():
+            if method == "block":
+                w, v, info = block_shift_invert(M, n, factor.solve, s, block_size=block_size,
+                                                basis_size=ncv, tol=tol.arpack)
+                what = f"block {info.block_size}, {info.n_solves} solves, {info.restarts} restarts"
+            else:
+                w, v = _arpack(K, M, n, s, factor, ncv)
+                what = "ARPACK"
+        _check_residuals(K, M, w, v, _RESIDUAL_LIMIT)
         w, v = _normalise(w, v, M)
-        log.info("%d modes of %d DOF in %.2f s", n, size, time.perf_counter() - t0)
+        log.info("%d modes of %d DOF in %.2f s (%s)", n, size, time.perf_counter() - t0, what)
         return Modes(w, v, s, stiffness_scale(K, M))
 
     return solve
+
+
+#: Backward error above which a returned pair is rejected (see ``_check_residuals``):
+#: far above what converged pairs show (1e-17..1e-15), far below a wrong one's.
+_RESIDUAL_LIMIT = float(np.sqrt(np.finfo(np.float64).eps))
+
+
+def _arpack(K, M, n: int, s: float, factor: Factor, ncv: int | None):
+    """``n`` eigenpairs nearest ``s`` by ARPACK's shift-invert mode (one solve per step)."""
+    size = K.shape[0]
+    v0 = np.random.default_rng(0).standard_normal(size)
+    k_ncv = ncv or min(size - 1, max(2 * n + 1, 20))
+    try:
+        return spla.eigsh(K, k=n, M=M, sigma=s, which="LM", OPinv=factor.as_operator(),
+                          v0=v0, ncv=k_ncv, tol=tol.arpack)
+    except spla.ArpackNoConvergence as exc:
+        raise ConvergenceError(
+            f"ARPACK converged {len(exc.eigenvalues)} of {n} modes",
+            exc.eigenvalues, exc.eigenvectors,
+        ) from None
 
 
 def modes(K, M, n: int = 10, eigensolver=None, factor: Factor | None = None) -> Modes:

@@ -92,7 +92,7 @@ def test_mode_signs_agree_across_backends(bar):
 
 
 def test_arpack_path_matches_dense_eigh(steel):
-    """Just above DENSE_LIMIT free DOFs: ARPACK shift-invert vs LAPACK's dense eigh."""
+    """Just above DENSE_LIMIT free DOFs: the shift-invert Krylov path vs LAPACK's dense eigh."""
     from flexarm.fe import TetMesh, select_nodes
 
     mesh = TetMesh.box((1.0, 0.1, 0.1), (8, 1, 1), order=2)
