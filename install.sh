@@ -6,8 +6,14 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 GL_PACKAGES="libegl1 libgl1 libgl1-mesa-dri libosmesa6 libxrender1"
+LIBS="libEGL.so.1 libOSMesa.so"
+if [ "${1:-}" = "--test" ]; then
+  # the optional gmsh mesher (tested with --test) loads these X/GL libraries at import
+  GL_PACKAGES="$GL_PACKAGES libglu1-mesa libxcursor1 libxft2 libxinerama1 libgomp1"
+  LIBS="$LIBS libGLU.so.1 libXcursor.so.1 libXft.so.2 libXinerama.so.1 libgomp.so.1"
+fi
 need_gl=0
-for lib in libEGL.so.1 libOSMesa.so; do
+for lib in $LIBS; do
   ldconfig -p 2>/dev/null | grep -q "$lib" || need_gl=1
 done
 if [ "$need_gl" = 1 ] && command -v apt-get >/dev/null 2>&1; then

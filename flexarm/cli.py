@@ -111,6 +111,8 @@ def _add_mesh(p: argparse.ArgumentParser) -> None:
     p.add_argument("--order", type=int, choices=(1, 2), default=1, help="1 = Tet4, 2 = Tet10")
     p.add_argument("--no-optimize", action="store_true", help="skip fTetWild optimisation")
     p.add_argument("--no-cache", action="store_true", help="ignore the tetrahedralisation cache")
+    p.add_argument("--mesher", choices=("tetwild", "gmsh"), default="tetwild",
+                   help="tetwild (robust on dirty CAD) or gmsh (deterministic; pip install gmsh)")
     p.add_argument("-o", "--output", required=True, help="volume mesh: .vtu, .msh, .npz")
 
 
@@ -125,6 +127,7 @@ def _run_mesh(args) -> int:
         mesh, quality = mesh_part(
             args.surface, units=args.units, size=args.size, order=args.order,
             optimize=not args.no_optimize, cache=not args.no_cache, progress=pr.note,
+            mesher=args.mesher,
         )
     write_volume_mesh(args.output, mesh)
     _print(quality.table())

@@ -3,7 +3,8 @@
 Imports only :mod:`flexarm.fe`.
 """
 
-from .pipeline import mesh_part
+from .gmsh_mesher import tetrahedralize_gmsh
+from .pipeline import MESHERS, mesh_part, tetrahedralizer
 from .primitives import bar_surface, cylinder_surface, hollow_link_surface, write_surface
 from .quality import QualityReport, dihedral_angles, mesh_quality, radius_ratios
 from .repair import check_surface, repair_surface
@@ -12,6 +13,7 @@ from .tetwild import tetrahedralize
 from .volume_io import read_volume_mesh, write_volume_mesh
 
 __all__ = [
+    "MESHERS",
     "QualityReport",
     "UNITS",
     "bar_surface",
@@ -26,6 +28,8 @@ __all__ = [
     "read_volume_mesh",
     "repair_surface",
     "tetrahedralize",
+    "tetrahedralize_gmsh",
+    "tetrahedralizer",
     "write_surface",
     "write_volume_mesh",
 ]

@@ -9,16 +9,43 @@ import numpy as np
 
 from ..fe.mesh import TetMesh
 from ..fe.typing import PathType
+from .gmsh_mesher import tetrahedralize_gmsh
 from .quality import QualityReport, mesh_quality
 from .surface import load_surface
+from .tet_cache import MESHERS
 from .tetwild import tetrahedralize
 
-__all__ = ["mesh_part", "DEFAULT_SIZE_FRACTION"]
+__all__ = ["mesh_part", "tetrahedralizer", "DEFAULT_SIZE_FRACTION", "MESHERS"]
 
 logger = logging.getLogger(__name__)
 
 #: Default edge length as a fraction of the bounding-box diagonal (pytetwild's default).
 DEFAULT_SIZE_FRACTION = 0.05
+
+
+def tetrahedralizer(mesher: str = "tetwild") -> Callable[..., TetMesh]:
+    """The tetrahedralisation function of a ``mesher`` setting.
+
+    Both take ``(surface, size, optimize=, order=, cache=, name=, progress=)`` and
+    return a Tet4/Tet10 :class:`TetMesh`; their cache entries are never shared.
+
+    Parameters
+    ----------
+    mesher : {"tetwild", "gmsh"}
+        ``"tetwild"`` (pytetwild/fTetWild: robust on dirty CAD, not reproducible
+        between runs) or ``"gmsh"`` (deterministic: same input, same mesh; needs
+        a closed, clean surface and the optional ``gmsh`` package).
+
+    Examples
+    --------
+    >>> tetrahedralizer("tetwild").__name__, tetrahedralizer("gmsh").__name__
+    ('tetrahedralize', 'tetrahedralize_gmsh')
+    """
+    if mesher == "tetwild":
+        return tetrahedralize
+    if mesher == "gmsh":
+        return tetrahedralize_gmsh
+    raise ValueError(f"mesher must be one of {', '.join(map(repr, MESHERS))}, got {mesher!r}")
 
 
 def mesh_part(
@@ -29,6 +56,7 @@ def mesh_part(
     optimize: bool = True,
     cache: bool = True,
     progress: Callable[[str], None] | None = None,
+    mesher: str = "tetwild",
 ) -> tuple[TetMesh, QualityReport]:
     """Tetrahedral mesh of a CAD part file and its quality against the surface.
 
@@ -45,6 +73,8 @@ def mesh_part(
         Tet4 or Tet10.
     optimize, cache, progress
         As for :func:`~flexarm.meshes.tetwild.tetrahedralize`.
+    mesher : {"tetwild", "gmsh"}
+        Which tetrahedraliser (see :func:`tetrahedralizer`).
 
     Returns
     -------
@@ -53,13 +83,14 @@ def mesh_part(
     report : QualityReport
         Including the volume error against the surface.
     """
+    meshing = tetrahedralizer(mesher)
     if progress is not None:
         progress(f"{path}: reading the surface (units={units})")
     surface = load_surface(path, units=units)
     if size is None:
         size = DEFAULT_SIZE_FRACTION * float(np.linalg.norm(surface.extents))
         logger.info("%s: default edge length %.4g m", path, size)
-    mesh = tetrahedralize(
+    mesh = meshing(
         surface,
         size,
         optimize=optimize,

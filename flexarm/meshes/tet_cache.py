@@ -17,18 +17,37 @@ from ..fe.mesh import TetMesh
 from ..fe.tolerances import tol
 from .formats import npz
 
-__all__ = ["tet_cache_key", "tet_cache_path", "load_cached", "store_cached", "CACHE_VERSION"]
+__all__ = [
+    "tet_cache_key",
+    "tet_cache_path",
+    "load_cached",
+    "store_cached",
+    "CACHE_VERSION",
+    "MESHERS",
+]
 
 logger = logging.getLogger(__name__)
 
 #: Bump when the meshing procedure changes so old entries are not reused.
 CACHE_VERSION = 1
+#: The tetrahedralisers (``mesher=`` settings); pytetwild is the default.
+MESHERS = ("tetwild", "gmsh")
 
 
 def tet_cache_key(
-    vertices: np.ndarray, faces: np.ndarray, size: float, optimize: bool, order: int
+    vertices: np.ndarray,
+    faces: np.ndarray,
+    size: float,
+    optimize: bool,
+    order: int,
+    mesher: str = "tetwild",
+    settings: tuple = (),
 ) -> str:
     """SHA-256 hex key of a tetrahedralisation request.
+
+    The two meshers never share an entry: any other mesher than ``"tetwild"`` adds
+    its name and ``settings`` to the key (pytetwild keys are those of before the
+    ``mesher`` setting existed, so existing cache entries stay valid).
 
     Parameters
     ----------
@@ -40,6 +59,10 @@ def tet_cache_key(
         Target edge length [m].
     optimize : bool
     order : {1, 2}
+    mesher : {"tetwild", "gmsh"}
+    settings : tuple
+        What else decides the mesher's output (e.g. its version and options); must
+        have a stable ``repr``.
 
     Examples
     --------
@@ -47,7 +70,12 @@ def tet_cache_key(
     >>> v, f = np.eye(3), np.array([[0, 1, 2]])
     >>> tet_cache_key(v, f, 0.01, True, 1) == tet_cache_key(v, f, 0.01, True, 2)
     False
+    >>> tet_cache_key(v, f, 0.01, True, 1) == tet_cache_key(v, f, 0.01, True, 1, mesher="gmsh")
+    False
     """
+    if mesher not in MESHERS:
+        raise ValueError(f"mesher must be one of {', '.join(map(repr, MESHERS))}, got {mesher!r}")
+    extra = () if mesher == "tetwild" and not settings else (mesher, tuple(settings))
     return digest(
         "tets",
         CACHE_VERSION,
@@ -59,6 +87,7 @@ def tet_cache_key(
         tol.tet_envelope,
         tol.sliver_dihedral_deg,
         tol.degenerate_volume,
+        *extra,
     )
 
 

@@ -1,0 +1,153 @@
+"""tetrahedralize_gmsh: deterministic Gmsh meshes, exact volumes, physics, clear errors."""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+import trimesh
+
+from flexarm.fe import assemble, dof_split, modes, node_dofs, select_nodes, shift_invert
+from flexarm.fe.errors import MeshError, MissingDependencyError
+from flexarm.meshes import (
+    mesh_part,
+    mesh_quality,
+    tetrahedralize_gmsh,
+    tetrahedralizer,
+    write_surface,
+)
+from flexarm.meshes.primitives import bar_surface
+from flexarm.meshes.tet_cache import tet_cache_key
+
+from .conftest import BAR
+
+try:  # the wheel's libgmsh needs system GL/X libraries: OSError if they are missing
+    import gmsh
+except (ImportError, OSError):
+    pytest.skip("gmsh is not importable", allow_module_level=True)
+
+#: Timoshenko bending frequencies of the 0.05 x 0.05 x 1 m steel cantilever [Hz]
+#: (tests/fe/test_cantilever.py, DESIGN.md section 9), each a degenerate pair.
+F_TIMOSHENKO = (41.694, 258.29)
+
+
+def _same(a, b) -> bool:
+    return (a.points.shape == b.points.shape and a.tets.shape == b.tets.shape
+            and np.array_equal(a.points, b.points) and np.array_equal(a.tets, b.tets))
+
+
+def _check(mesh, surface, volume_rtol):
+    vol = mesh.volumes()
+    assert (vol > 0).all()
+    assert len(np.unique(mesh.tets)) == mesh.n_nodes  # no unused nodes
+    mesh.check()
+    assert vol.sum() == pytest.approx(float(surface.volume), rel=volume_rtol)
+
+
+def test_same_input_gives_bit_identical_meshes(bar, capfd):
+    first = tetrahedralize_gmsh(bar, 0.02, cache=False, name="bar")
+    second = tetrahedralize_gmsh(bar, 0.02, cache=False, name="bar")
+    assert _same(first, second)
+    # a differently ordered but identical copy of the surface gives the same mesh too
+    copy = trimesh.Trimesh(bar.vertices.copy(), bar.faces.copy(), process=False)
+    assert _same(first, tetrahedralize_gmsh(copy, 0.02, cache=False))
+    out, err = capfd.readouterr()
+    assert out == "" and err == ""  # General.Terminal=0, Netgen's prints swallowed
+    assert not gmsh.isInitialized()  # finalised again: no global state left behind
+
+
+@pytest.mark.parametrize(
+    "shape, surface, size",
+    [
+        ("box", trimesh.creation.box((0.2, 0.1, 0.05)), 0.02),
+        ("cylinder", trimesh.creation.cylinder(radius=0.05, height=0.2, sections=48), 0.0125),
+    ],
+)
+def test_volume_and_orientation(shape, surface, size):
+    mesh = tetrahedralize_gmsh(surface, size, cache=False, name=shape)
+    _check(mesh, surface, volume_rtol=0.01)
+    report = mesh_quality(mesh, surface)
+    assert report.n_slivers == 0 and report.mean_radius_ratio > 0.6
+    # nodes lie on or inside the CAD surface (a curved face is remeshed with chords)
+    assert (mesh.bounds()[0] >= surface.bounds[0] - 1e-12).all()
+    assert (mesh.bounds()[1] <= surface.bounds[1] + 1e-12).all()
+
+
+def test_box_is_exact_and_conforming(bar):
+    """Planar faces are meshed on exact plane surfaces: the volume is the CAD volume."""
+    mesh = tetrahedralize_gmsh(bar, 0.025, cache=False)
+    _check(mesh, bar, volume_rtol=1e-9)
+    np.testing.assert_allclose(mesh.bounds(), [[0, 0, 0], BAR], atol=1e-12)
+
+
+def test_tet10_cantilever_frequencies_within_one_percent(steel):
+    mesh = tetrahedralize_gmsh(bar_surface(1.0, 0.05, 0.05), 0.025, order=2, cache=False)
+    assert mesh.order == 2
+    K, M = assemble(mesh, steel)
+    split = dof_split(mesh.n_dofs, node_dofs(select_nodes(mesh, "x=min")))
+    m = modes(split.condense(K), split.condense(M), n=4, eigensolver=shift_invert(0.0))
+    assert m.n_rigid == 0
+    for pair, ref in zip((m.freq_hz[0:2], m.freq_hz[2:4]), F_TIMOSHENKO, strict=True):
+        np.testing.assert_allclose(pair, ref, rtol=0.01)
+        assert np.all(pair > ref)  # conforming, consistent mass: from above
+
+
+def test_open_surface_is_refused_with_its_name():
+    box = trimesh.creation.box((0.1, 0.1, 0.1))
+    open_box = trimesh.Trimesh(box.vertices, box.faces[:-2], process=False)
+    with pytest.raises(MeshError, match=r"^lid\.stl: the surface is not closed"):
+        tetrahedralize_gmsh(open_box, 0.05, cache=False, name="lid.stl")
+
+
+def test_missing_gmsh_says_how_to_install(bar, monkeypatch):
+    monkeypatch.setitem(sys.modules, "gmsh", None)  # import gmsh -> ImportError
+    with pytest.raises(MissingDependencyError) as info:
+        tetrahedralize_gmsh(bar, 0.05, cache=False)
+    assert str(info.value) == "gmsh is not installed: pip install gmsh (or use mesher='tetwild')"
+
+
+def test_cache_entries_are_separate_from_tetwild(bar, private_cache):
+    messages = []
+    first = tetrahedralize_gmsh(bar, 0.05, name="bar")
+    again = tetrahedralize_gmsh(bar, 0.05, name="bar", progress=messages.append)
+    assert _same(first, again) and "from cache" in messages[0]
+    assert len(list((private_cache / "tets").glob("*.npz"))) == 1
+    v, f = bar.vertices, bar.faces
+    assert tet_cache_key(v, f, 0.05, True, 1) != tet_cache_key(v, f, 0.05, True, 1, mesher="gmsh")
+    with pytest.raises(ValueError, match="mesher must be one of"):
+        tet_cache_key(v, f, 0.05, True, 1, mesher="netgen")
+
+
+def test_an_open_caller_session_is_left_as_it_was(bar):
+    gmsh.initialize([], readConfigFiles=False, interruptible=False)
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("mine")
+        gmsh.option.setNumber("Mesh.Algorithm3D", 10)
+        gmsh.option.setNumber("Mesh.MeshSizeMax", 7.0)
+        models = gmsh.model.list()
+        mesh = tetrahedralize_gmsh(bar, 0.05, cache=False)
+        assert gmsh.isInitialized() and gmsh.model.list() == models
+        assert gmsh.model.getCurrent() == "mine"
+        assert gmsh.option.getNumber("Mesh.Algorithm3D") == 10
+        assert gmsh.option.getNumber("Mesh.MeshSizeMax") == 7.0
+    finally:
+        gmsh.finalize()
+    assert _same(mesh, tetrahedralize_gmsh(bar, 0.05, cache=False))
+
+
+def test_mesher_setting_through_mesh_part_and_cli(tmp_path):
+    from flexarm.cli import main
+
+    path = tmp_path / "bar_mm.stl"
+    write_surface(path, bar_surface(200.0, 100.0, 50.0))
+    mesh, report = mesh_part(path, units="mm", size=0.03, mesher="gmsh", cache=False)
+    assert abs(report.volume_error) < 1e-9 and (mesh.volumes() > 0).all()
+    assert tetrahedralizer("gmsh") is tetrahedralize_gmsh
+    with pytest.raises(ValueError, match="mesher must be one of"):
+        mesh_part(path, mesher="netgen")
+    out = tmp_path / "bar.vtu"
+    assert main(["mesh", str(path), "--units", "mm", "--size", "0.03", "--mesher", "gmsh",
+                 "--no-cache", "-o", str(out)]) == 0
+    assert out.is_file()
