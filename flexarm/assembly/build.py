@@ -169,17 +169,27 @@ def link_material(link: Link, stiffness_scale: float = 1.0) -> Material:
     return dataclasses.replace(link.material, E=link.material.E * stiffness_scale)
 
 
-def link_mesh(link: Link, mesh_size: float, order: int = 1, progress=None) -> TetMesh:
-    """Tetrahedral mesh of the link's CAD [m], link frame (pytetwild, cached on disk).
+def link_mesh(link: Link, mesh_size: float, order: int = 1, progress=None,
+              mesher: str = "tetwild") -> TetMesh:
+    """Tetrahedral mesh of the link's CAD [m], link frame (cached on disk).
 
-    The same call as the E-model's mass properties, so both see the same solid.
+    The same call as the E-model's mass properties, so both see the same solid;
+    ``mesher`` is the robot's ``model.mesher`` (``"tetwild"`` or ``"gmsh"``).
     """
-    from ..meshes import load_surface, tetrahedralize
+    from ..meshes import load_surface, tetrahedralizer
 
     if link.mesh is None:
         raise ValueError(f"links.{link.name}: no mesh to build a flexible link from")
     surface = load_surface(link.mesh, units=link.units)
-    return tetrahedralize(surface, mesh_size, order=order, name=link.name, progress=progress)
+    return tetrahedralizer(mesher)(surface, mesh_size, order=order, name=link.name,
+                                   progress=progress)
+
+
+def mesh_identity(link: Link, mesher: str = "tetwild") -> str:
+    """What a link's cached results are keyed by: its CAD file, and the mesher unless
+    it is the default (so existing pytetwild cache entries stay valid)."""
+    return file_digest(link.mesh) if mesher == "tetwild" else digest(file_digest(link.mesh),
+                                                                      mesher)
 
 
 def _key(link: Link, names, opts: BuildOptions, mesh_id: str) -> str:
@@ -220,7 +230,7 @@ def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
         mesh = mesher(lk, opts.mesh_size, opts.order)
         mesh_id = digest(mesh.points, mesh.tets)
     else:
-        mesh_id = file_digest(lk.mesh)
+        mesh_id = mesh_identity(lk, robot.options.mesher)
     key = _key(lk, names, opts, mesh_id)
     path = cache_dir() / "superelements" / f"{key}.h5"
     meta = path.with_suffix(".json")
@@ -233,7 +243,7 @@ def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
     t0 = time.perf_counter()
     say(f"{lk.name}: meshing (edge {opts.mesh_size * 1e3:.0f} mm)")
     if mesh is None:
-        mesh = link_mesh(lk, opts.mesh_size, opts.order)
+        mesh = link_mesh(lk, opts.mesh_size, opts.order, mesher=robot.options.mesher)
     say(f"{lk.name}: reducing {mesh.n_dofs} DOF ({opts.label}, {opts.coupling})")
     se, st = reduce_with_stats(mesh, link_material(lk, opts.stiffness_scale),
                                cylinder_regions(lk, names), opts.coupling, opts.method,

@@ -13,7 +13,7 @@ import logging
 
 import numpy as np
 
-from ..fe.files import atomic_path, cache_dir, digest, file_digest
+from ..fe.files import atomic_path, cache_dir, digest
 from ..fe.mass_properties import MassProperties, mass_properties
 from .bodies import combine_mass_properties, point_mass_properties, rigid_body
 from .robot import UNITS, Link, Robot
@@ -26,21 +26,24 @@ log = logging.getLogger(__name__)
 METHODS = ("tets", "surface")
 
 
-def _mesh_mass_properties(link: Link, method: str, mesh_size: float) -> MassProperties:
+def _mesh_mass_properties(link: Link, method: str, mesh_size: float,
+                          mesher: str = "tetwild") -> MassProperties:
     """Mass properties of a link's CAD solid, cached on disk by input hash."""
+    from .build import mesh_identity
+
     rho = link.material.rho
-    key = digest("link-mass-properties-v1", file_digest(link.mesh), link.units, rho, method,
-                 mesh_size)
+    key = digest("link-mass-properties-v1", mesh_identity(link, mesher), link.units, rho,
+                 method, mesh_size)
     path = cache_dir() / "mass_properties" / f"{key}.json"
     if path.is_file():
         d = json.loads(path.read_text())
         return MassProperties(d["mass"], np.array(d["center_of_mass"]), np.array(d["inertia"]))
     log.info("mass properties of %s (%s)", link.name, method)
     if method == "tets":
-        from ..meshes import load_surface, tetrahedralize
+        from ..meshes import load_surface, tetrahedralizer
 
         surface = load_surface(link.mesh, units=link.units)
-        tets = tetrahedralize(surface, mesh_size, name=link.name)
+        tets = tetrahedralizer(mesher)(surface, mesh_size, name=link.name)
         mp = mass_properties(tets, rho)
     else:
         import trimesh
@@ -57,7 +60,8 @@ def _mesh_mass_properties(link: Link, method: str, mesh_size: float) -> MassProp
     return mp
 
 
-def link_mass_properties(link: Link, method: str = "tets", mesh_size: float = 0.04):
+def link_mass_properties(link: Link, method: str = "tets", mesh_size: float = 0.04,
+                         mesher: str = "tetwild"):
     """:class:`MassProperties` of a link (solid mesh + lumped masses) in its link frame.
 
     Parameters
@@ -69,10 +73,13 @@ def link_mass_properties(link: Link, method: str = "tets", mesh_size: float = 0.
         integrals of the CAD itself (fast; for watertight CAD only).
     mesh_size : float
         Tet edge length [m] for ``"tets"``; the integrals are exact for any tet mesh.
+    mesher : {"tetwild", "gmsh"}
+        Tetrahedraliser for ``"tets"`` (the robot's ``model.mesher``).
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got '{method}'")
-    parts = [] if link.mesh is None else [_mesh_mass_properties(link, method, mesh_size)]
+    parts = [] if link.mesh is None else [_mesh_mass_properties(link, method, mesh_size,
+                                                                 mesher)]
     parts += [point_mass_properties(m.mass, m.position, m.inertia) for m in link.lumped]
     if not parts:
         raise ValueError(f"links.{link.name}: no mesh and no lumped masses (a massless link)")
@@ -81,7 +88,8 @@ def link_mass_properties(link: Link, method: str = "tets", mesh_size: float = 0.
 
 def total_mass(robot: Robot, method: str = "tets", mesh_size: float = 0.04) -> float:
     """Total mass of the robot [kg] (links and lumped masses)."""
-    return sum(link_mass_properties(lk, method, mesh_size).mass for lk in robot.links)
+    return sum(link_mass_properties(lk, method, mesh_size, robot.options.mesher).mass
+               for lk in robot.links)
 
 
 def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04,
@@ -116,7 +124,8 @@ def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04,
         points[int(chain.parents[j])][jt.name] = jt.origin
     points[chain.tcp_body]["tcp"] = chain.tool[:3, 3]
     bodies = tuple(
-        rigid_body(lk.name, link_mass_properties(lk, method, mesh_size), np.zeros(3), points[i])
+        rigid_body(lk.name, link_mass_properties(lk, method, mesh_size, robot.options.mesher),
+                   np.zeros(3), points[i])
         for i, lk in enumerate(robot.links)
     )
     foundation = None

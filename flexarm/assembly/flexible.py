@@ -131,7 +131,8 @@ def _body_of(robot: Robot, i: int, lb: LinkBuild, damping_ratio: float, mass_met
         pts = dict(children)
         if tcp is not None:
             pts["tcp"] = tcp
-        return rigid_body(lk.name, link_mass_properties(lk, mass_method, mesh_size),
+        return rigid_body(lk.name, link_mass_properties(lk, mass_method, mesh_size,
+                                                        robot.options.mesher),
                           np.zeros(3), pts)
     att = {name: (lb.regions.index(name), p) for name, p in children.items()}
     if tcp is not None:

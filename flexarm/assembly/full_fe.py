@@ -115,12 +115,12 @@ def _fe_body(robot: Robot, i: int, opts: BuildOptions, mesher: Mesher | None) ->
     if i == chain.tcp_body:
         att["tcp"] = chain.tool[:3, 3]
     if not names:  # rigid base
-        mp = link_mass_properties(lk, "tets", opts.mesh_size)
+        mp = link_mass_properties(lk, "tets", opts.mesh_size, robot.options.mesher)
         pts = {k: sp.csr_matrix(rigid_transport(p)) for k, p in att.items()}
         return SparseBody(lk.name, sp.csr_matrix((6, 6)),
                           sp.csr_matrix(rigid_body_mass_matrix(mp, np.zeros(3))), pts)
-    mesh = mesher(lk, opts.mesh_size, opts.order) if mesher else link_mesh(lk, opts.mesh_size,
-                                                                             opts.order)
+    mesh = (mesher(lk, opts.mesh_size, opts.order) if mesher
+            else link_mesh(lk, opts.mesh_size, opts.order, mesher=robot.options.mesher))
     cm = coupled_model(mesh, link_material(lk, opts.stiffness_scale),
                        cylinder_regions(lk, names), opts.coupling)
     c = cm.coupling

@@ -147,11 +147,13 @@ class Tool:
 
 @dataclass(frozen=True)
 class ModelOptions:
-    """Element order (1|2), mesh size [m] and Craig–Bampton mode count per link."""
+    """Element order (1|2), mesh size [m], Craig–Bampton mode count per link, and the
+    tetrahedraliser (``"tetwild"``, or ``"gmsh"``: the same CAD gives the same mesh)."""
 
     element_order: int = 1
     mesh_size: float = 0.03
     cb_modes: int = 10
+    mesher: str = "tetwild"
 
 
 @dataclass(frozen=True, eq=False)
@@ -222,6 +224,11 @@ class Robot:
 
 def validate(robot: Robot) -> None:
     """Raise ``ValueError`` naming key and value for anything inconsistent."""
+    from ..meshes import MESHERS
+
+    if robot.options.mesher not in MESHERS:
+        raise ValueError(f"model.mesher must be one of {', '.join(MESHERS)}, "
+                         f"got '{robot.options.mesher}'")
     names = [lk.name for lk in robot.links]
     if len(set(names)) != len(names):
         raise ValueError(f"links: duplicate link names in {names}")

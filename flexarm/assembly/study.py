@@ -206,7 +206,7 @@ def kmaster_builds(robot: Robot, options: BuildOptions, k: int, cache: bool = Tr
             continue
         t0 = time.perf_counter()
         if mesh is None:
-            mesh = link_mesh(lk, opts.mesh_size, opts.order)
+            mesh = link_mesh(lk, opts.mesh_size, opts.order, mesher=robot.options.mesher)
         se, _ = reduce_with_stats(mesh, mat, cylinder_regions(lk, names), "nodes", opts.method,
                                   opts.n_modes, n_masters=k)
         se = tied_superelement(se)
@@ -279,7 +279,7 @@ def _premesh(robot: Robot, size: float, order: int, mesher: Mesher | None) -> fl
         if mesher is not None:
             mesher(lk, size, order)
         elif lk.mesh is not None:
-            link_mesh(lk, size, order)
+            link_mesh(lk, size, order, mesher=robot.options.mesher)
     return time.perf_counter() - t0
 
 
