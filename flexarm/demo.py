@@ -375,16 +375,34 @@ def _arm_pictures(out: Path, robot, arm, builds) -> list[str]:
         return [f"- (no arm pictures: {exc})"]
 
 
-def _measurement_job(folder: str) -> tuple[list[str], dict[str, float], list[str]]:
-    """:func:`_measurement_step` in a worker process: its index lines, figures, progress."""
+#: Progress channel of a worker process (set by :func:`_init_worker`).
+_worker_say: Progress | None = None
+
+
+def _init_worker(queue) -> None:
+    global _worker_say
+    _worker_say = queue.put
+
+
+def _steps_job(folder: str, names: tuple[str, ...]) -> list[tuple[list[str], dict[str, float]]]:
+    """Demo steps ``names`` in a worker process: each step's index lines and figures.
+
+    Progress lines go to the parent through the queue given to :func:`_init_worker`.
+    """
     from threadpoolctl import threadpool_limits
 
-    said: list[str] = []
-    report = DemoReport(Path(folder))
+    say = _worker_say or (lambda s: None)
+    out = []
     # The parent keeps the other core busy; two BLAS pools of two threads would fight.
     with threadpool_limits(1):
-        _measurement_step(Path(folder), report, said.append)
-    return report.lines, report.figures, said
+        for name in names:
+            report = DemoReport(Path(folder))
+            _STEPS[name](Path(folder), report, say)
+            out.append((report.lines, report.figures))
+    return out
+
+
+_STEPS = {"emodel": _emodel_step, "measurements": _measurement_step}
 
 
 def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: float = 0.03,
@@ -396,52 +414,68 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     folder : path-like
         Output folder (created).
     progress : callable, optional
-        Receives one line per step.
+        Receives one line per step (from a helper thread while a worker runs).
     size : float
         Edge length of the part-level mesh [m].
     part : bool
         Also run the single-part pipeline (full FE modes of one cast link).
     jobs : int
-        Processes to use: with 2 or more, the measurement step (which needs only the
-        E-model) runs in a second process while the arm steps run here, and the
-        off-screen render probe starts at once in the background.  ``1`` runs
-        everything in order in this process.
+        Processes to use: with 2 or more, the E-model and measurement steps (which need
+        no superelements) run in a second process while the flexible-arm step runs
+        here, and the off-screen render probe starts at once in the background.  ``1``
+        runs everything in order in this process.  The index is the same either way.
     """
     progress = progress or (lambda s: log.info(s))
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     report = DemoReport(out)
     t0 = time.perf_counter()
-    pool = future = None
-    if jobs > 1:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
-        from .reduction.render import prefetch_render_backend
-
-        prefetch_render_backend()
-        # spawn, not fork: this process may already hold MKL/OpenMP threads.
-        pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
-        future = pool.submit(_measurement_job, str(out))
-        progress("measurements: compare -> diagnose -> apply, in a second process")
-    try:
+    if jobs <= 1:
         if part:
             _part_step(out, report, progress, size)
         _emodel_step(out, report, progress)
         _flexible_step(out, report, progress)
-        if future is None:
-            _measurement_step(out, report, progress)
-        else:
-            lines, figures, said = future.result()
-            for line in said:
-                progress(line)
-            report.lines += lines
-            report.figures.update(figures)
-    finally:
-        if pool is not None:
-            pool.shutdown(cancel_futures=True)
+        _measurement_step(out, report, progress)
+    else:
+        _run_parallel(out, report, progress, size, part)
     report.seconds = time.perf_counter() - t0
     head = ["# flexarm demo", "", f"Run time {report.seconds:.1f} s.", ""]
     with atomic_path(out / "index.md") as tmp:
         tmp.write_text("\n".join(head + report.lines) + "\n")
     return report
+
+
+def _run_parallel(out: Path, report: DemoReport, progress: Progress, size: float,
+                  part: bool) -> None:
+    """Flexible arm here; E-model and measurements in a spawned worker (same index)."""
+    import multiprocessing
+    import threading
+    from concurrent.futures import ProcessPoolExecutor
+
+    from .reduction.render import prefetch_render_backend
+
+    prefetch_render_backend()
+    # spawn, not fork: this process may already hold MKL/OpenMP threads.
+    ctx = multiprocessing.get_context("spawn")
+    queue = ctx.SimpleQueue()
+
+    def relay():
+        while (line := queue.get()) is not None:
+            progress(line)
+
+    relay_thread = threading.Thread(target=relay, name="flexarm-demo-progress", daemon=True)
+    relay_thread.start()
+    try:
+        with ProcessPoolExecutor(1, mp_context=ctx, initializer=_init_worker,
+                                 initargs=(queue,)) as pool:
+            future = pool.submit(_steps_job, str(out), ("emodel", "measurements"))
+            first, flexible = DemoReport(out), DemoReport(out)
+            if part:
+                _part_step(out, first, progress, size)
+            _flexible_step(out, flexible, progress)
+            (em_lines, em_figs), (ms_lines, ms_figs) = future.result()
+    finally:
+        queue.put(None)
+        relay_thread.join()
+    report.lines += first.lines + em_lines + flexible.lines + ms_lines
+    report.figures.update({**first.figures, **em_figs, **flexible.figures, **ms_figs})

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from flexarm.demo import _measurement_job, run_demo
+from flexarm.demo import _init_worker, _steps_job, run_demo
 
 
 def test_measurement_demo_error_falls_into_band(tmp_path):
@@ -12,8 +12,14 @@ def test_measurement_demo_error_falls_into_band(tmp_path):
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
-        lines, f, said = pool.submit(_measurement_job, str(tmp_path)).result()
+    ctx = multiprocessing.get_context("spawn")
+    queue = ctx.SimpleQueue()
+    with ProcessPoolExecutor(1, mp_context=ctx, initializer=_init_worker,
+                             initargs=(queue,)) as pool:
+        [(lines, f)] = pool.submit(_steps_job, str(tmp_path), ("measurements",)).result()
+    said = []
+    while not queue.empty():
+        said.append(queue.get())
     assert any(s.startswith("measurements:") for s in said)
     # nominal stiffnesses are 30 % off: far outside the noise band ...
     assert f["measurements_chi2_red_nominal"] > 10
