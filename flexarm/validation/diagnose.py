@@ -12,7 +12,7 @@ and their intervals exclude zero; (6) add it and repeat.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -145,8 +145,9 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
     cands = library(problem)
     steps, accepted, ident = [], [], {}
     label = "baseline"
+    n_shape = 0  # shape parameters (thresholds, radii) of the accepted effects: fixed, counted
     for it in range(max_effects + 1):
-        fr = fit_model(problem, effects, free, scales, prior)
+        fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
         band = chi2_band(fr.dof)
         cur_ho = heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan
         if it == 0:
@@ -162,7 +163,8 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
         if testable:
             best: Screen = testable[0]
             c = best.candidate
-            fr2, free2, scales2, keep = _refit(problem, fr, free, scales, prior, best)
+            fr2, free2, scales2, keep, grid_sd = _refit(problem, fr, free, scales, prior, best,
+                                                        n_shape)
             theta = fr2.theta[len(free):]
             se = fr2.stderr[len(free):]
             dbic = fr.chi2 - fr2.chi2 - c.n_params * np.log(fr.n_obs)
@@ -182,6 +184,7 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
                                  zip(keep, theta, se, strict=True)},
                       "grid": None if c.grid_name is None else
                       (c.grid_name, fr2.effects[-1].get(c.grid_name)),
+                      "grid_sd": grid_sd,
                       "checks": checks, "chi2_red_after": fr2.chi2_red,
                       "rms_heldout_after": new_ho, "rms_fit_after": _rms(problem, fr2.effects)}
             text = explain(problem, c, fr2.effects[-1], theta, se)
@@ -228,23 +231,30 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
         if not ok:
             break
         effects, free, scales = list(fr2.effects), free2, scales2
+        n_shape = fr2.n_shape
         accepted.append(fr2.effects[-1])
         label = label + " + " + testable[0].candidate.label
     if steps[-1].accepted:  # the loop ran out of iterations after an acceptance
-        fr = fit_model(problem, effects, free, scales, prior)
+        fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
         steps.append(Step(label, fr.effects, fr.chi2_red, chi2_band(fr.dof), fr.dof,
                           _rms(problem, fr.effects),
                           heldout_rms(problem, effects, free, scales, prior) if heldout
                           else np.nan))
     log.info("diagnosis done: %d effects accepted", len(accepted))
     return Diagnosis(tuple(steps), ident, tuple(accepted), tuple(steps[-1].effects),
-                     static_notes(arm, links_tested=flexible is not None))
+                     static_notes(arm, links_tested=flexible is not None)
+                     + tuple("modal data: " + u for u in getattr(problem, "unmatched", ())))
 
 
-def _refit(problem: Problem, fr, free, scales, prior, best: Screen):
+def _refit(problem: Problem, fr, free, scales, prior, best: Screen, n_shape: int = 0):
     """Physical refit of a candidate with the current model: amplitudes the data can see
     (whitened norm at typical size >= ``tol.untestable_norm``) are free, the others stay
-    0; the shape parameter (if any) is optimised around its best grid value."""
+    0; the shape parameter (if any) is optimised around its best grid value and counted
+    in the degrees of freedom (with the ``n_shape`` of the current model).
+
+    Returns the fit, its free parameters and scales, the amplitudes kept and the standard
+    deviation of the shape parameter (NaN without one); the fit's covariance is then
+    marginal over the shape parameter (:func:`_shape_marginal`)."""
     from scipy.optimize import minimize_scalar
 
     from .candidates import signature
@@ -257,9 +267,12 @@ def _refit(problem: Problem, fr, free, scales, prior, best: Screen):
     free2 = list(free) + [(i, a) for a in keep]
     scales2 = np.r_[scales, [s for a, s in zip(c.amplitudes, c.sizes, strict=True) if a in keep]]
 
+    n_shape2 = n_shape + (c.grid_name is not None)
+
     def run(g, iterations=3):
         eff = list(fr.effects) + [c.effect(g)]
-        return fit_model(problem, eff, free2, scales2, prior, iterations=iterations)
+        return fit_model(problem, eff, free2, scales2, prior, iterations=iterations,
+                         n_shape=n_shape2)
 
     g = best.grid_value
     if c.grid_name is not None:
@@ -267,7 +280,33 @@ def _refit(problem: Problem, fr, free, scales, prior, best: Screen):
         opt = minimize_scalar(lambda x: run(np.exp(x), 2).chi2, bounds=(lo, hi),
                               method="bounded", options={"xatol": 1e-3})
         g = float(np.exp(opt.x))
-    return run(g), free2, scales2, keep
+        fr2, g_sd = _shape_marginal(problem, run(g), scales2, prior, c.grid_name)
+        return fr2, free2, scales2, keep, g_sd
+    return run(g), free2, scales2, keep, float("nan")
+
+
+def _shape_marginal(problem: Problem, fit, scales, prior, name: str):
+    """``fit`` (whose last effect has the shape parameter ``name``, found by search) with
+    the covariance of its free parameters marginal over that shape parameter, and the
+    shape parameter's standard deviation.
+
+    At a fixed shape the amplitude's interval is conditional and too narrow when the two
+    trade off (a hardening threshold a little higher with a little more extra compliance
+    fits almost as well): with it, the 99 % intervals of the hardening amplitude covered
+    the truth on 17 of 20 seeds.  The shape's sensitivity column (finite difference)
+    joins the linearised normal equations, with the same prior on the baseline."""
+    eff = list(fit.effects)
+    g = eff[-1].get(name)
+    h = tol.fd_step * abs(g)
+    f0 = problem.wpredict(eff)
+    xg = (problem.wpredict(eff[:-1] + [eff[-1].with_params(**{name: g + h})]) - f0) / h
+    X = np.column_stack([fit.sensitivity, xg])
+    D = np.r_[scales, abs(g)]
+    sd = np.array([prior.get(f, (0.0, np.inf))[1] for f in fit.free] + [np.inf])
+    P = np.where(np.isfinite(sd), 1 / np.where(np.isfinite(sd), sd, 1) ** 2, 0.0)
+    A = (X * D).T @ (X * D) + np.diag(P * D**2)
+    cov = D[:, None] * np.linalg.pinv(A, rcond=1e-12) * D[None, :]
+    return replace(fit, cov=cov[:-1, :-1]), float(np.sqrt(max(cov[-1, -1], 0.0)))
 
 
 def _corr(A: np.ndarray, B: np.ndarray) -> float:

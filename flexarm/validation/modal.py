@@ -1,12 +1,20 @@
 """Modal data in the diagnosis: natural frequencies as extra observations, and a modal lab.
 
-A measured frequency ``f_k`` of mode ``k`` (1 = lowest) at a pose is compared with the
-``k``-th natural frequency of the model at that pose; the noise is relative,
+A measured frequency at a pose is compared with the model mode it is *assigned* to, not
+with the model mode of the same number: the file's mode numbers are the lab's labels,
+and two close modes may be listed in the other order (or the model's two modes may swap
+places as the fit changes a stiffness).  :func:`match_modes` assigns, per pose, the
+measured frequencies to distinct model modes by minimising the sum of squared relative
+differences ``((f_model - f_meas) / f_meas)^2`` (``scipy.optimize.linear_sum_assignment``),
+which is the frequencies' chi-square: the assignment is the most likely one, and the
+modal chi-square stays continuous when modes cross.  A measured mode with no model mode
+within a factor ``1 + MATCH_WINDOW`` of it (in the starting model) is *unmatched*: it is
+reported and left out of the diagnosis.  The noise is relative,
 ``sd = freq_noise * f_k`` (0.5 % by default, ``tol.freq_noise``), independent between
 modes and poses.  :class:`ModalProblem` appends these whitened residuals to the static
 GLS residuals of :class:`~flexarm.validation.fit.Problem`, so every fit, score test and
-held-out check of the diagnosis uses both.  Frequency sensitivities to the parameters
-are finite differences of the model eigenvalues (as for the static part).
+held-out check of the diagnosis uses both.  Frequency sensitivities to the parameters are finite
+differences of the model eigenvalues (as for the static part).
 
 Why this separates link flexibility: static TCP compliance is a sum of joint and link
 compliances, so fitted joint compliances can absorb the links; the frequencies weigh
@@ -17,8 +25,10 @@ E-model whose joints were softened to match the statics cannot match them.
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from ..assembly.analyses import natural_frequencies
 from ..assembly.system import ArmModel
@@ -28,13 +38,128 @@ from .fit import Problem
 from .linkflex import links_arm, split_links
 from .measurements import ModalData, StaticData
 
-__all__ = ["ModalProblem", "model_frequencies", "virtual_modal"]
+__all__ = ["ModalProblem", "ModeMatch", "MATCH_WINDOW", "match_modes", "match_frequencies",
+           "model_frequencies", "virtual_modal"]
 
 log = logging.getLogger(__name__)
 
+#: A matched pair's frequencies lie within a factor ``1 + MATCH_WINDOW`` of each other [-].
+#: Wide enough for a nominal model with +-30 % joint stiffness errors (+-15 % in
+#: frequency) and rigid links (scenario 7: the E-model's third mode at P1 is 30 % above
+#: the measured one); a measured mode farther from every model mode (a fixture
+#: resonance, a sensor mode) is reported as unmatched.
+MATCH_WINDOW = 0.5
 
-def model_frequencies(arm: ArmModel, modal: ModalData) -> np.ndarray:
-    """(n,) model natural frequency [Hz] for each row (pose, mode) of ``modal``.
+_OUTSIDE = 1e6  # cost added to a pair outside the window (used only when unavoidable)
+
+
+def _assign(f_meas: np.ndarray, f_model: np.ndarray, window: float | None):
+    """(k, inside): one-to-one assignment minimising the summed squared relative
+    differences (pairs outside ``window`` only when nothing else is left); ``k = -1``
+    only when the model has fewer modes than were measured."""
+    k = np.full(len(f_meas), -1)
+    inside = np.zeros(len(f_meas), bool)
+    if not len(f_meas) or not len(f_model):
+        return k, inside
+    rel = (f_model[None, :] - f_meas[:, None]) / f_meas[:, None]
+    cost = rel**2
+    far = np.zeros(rel.shape, bool)
+    if window is not None:
+        ratio = np.maximum(f_model[None, :] / f_meas[:, None], f_meas[:, None] / f_model[None, :])
+        far = ratio > 1 + window
+        cost = cost + _OUTSIDE * far
+    rows, cols = linear_sum_assignment(cost)
+    k[rows] = cols
+    inside[rows] = ~far[rows, cols]
+    return k, inside
+
+
+def match_modes(f_meas, f_model, window: float | None = MATCH_WINDOW) -> np.ndarray:
+    """Assign measured frequencies of one pose to distinct model modes.
+
+    Parameters
+    ----------
+    f_meas : (m,) float
+        Measured natural frequencies [Hz] (any order).
+    f_model : (N,) float
+        Model natural frequencies [Hz].
+    window : float or None
+        A match's frequencies lie within a factor ``1 + window`` of each other;
+        ``None``: every measured mode is assigned (if the model has enough modes).
+
+    Returns
+    -------
+    (m,) int
+        Index into ``f_model`` of each measured mode, ``-1`` when unmatched.  The
+        assignment minimises ``sum ((f_model - f_meas) / f_meas)^2`` over one-to-one
+        assignments, pairs outside the window only when nothing else is left.
+
+    Examples
+    --------
+    >>> match_modes([16.9, 16.1, 7.6], [7.5, 16.0, 17.0, 40.0]).tolist()
+    [2, 1, 0]
+    >>> match_modes([7.6, 3.0], [7.5, 16.0]).tolist()
+    [0, -1]
+    """
+    k, inside = _assign(np.asarray(f_meas, float), np.asarray(f_model, float), window)
+    return np.where(inside, k, -1)
+
+
+@dataclass(frozen=True)
+class ModeMatch:
+    """Measured modes assigned to model modes (:func:`match_frequencies`).
+
+    ``model_hz`` (n,): the model frequency assigned to each row of the modal data (an
+    unmatched row keeps the model mode the assignment left it, so the array stays
+    finite); ``model_mode`` (n,): its 1-based model mode number; ``matched`` (n,) bool:
+    within the window.
+    """
+
+    model_hz: np.ndarray
+    model_mode: np.ndarray
+    matched: np.ndarray
+    window: float | None = MATCH_WINDOW
+
+    def unmatched(self, modal: ModalData) -> list[str]:
+        """One line per unmatched measured mode (pose, mode number, frequency)."""
+        w = "" if self.window is None else f" within a factor {1 + self.window:.3g}"
+        return [f"pose {p} mode {m}: {f:.4g} Hz has no model mode{w} (model modes are "
+                f"all taken or farther; assigned {fm:.4g} Hz)"
+                for p, m, f, fm, ok in zip(modal.poses, modal.modes, modal.freq_hz,
+                                           self.model_hz, self.matched, strict=True) if not ok]
+
+
+def match_frequencies(arm: ArmModel, modal: ModalData, window: float | None = MATCH_WINDOW,
+                      rows: np.ndarray | None = None) -> ModeMatch:
+    """Assign the measured modes of ``modal`` to model modes of ``arm``, pose by pose
+    (:func:`match_modes`); ``rows`` (bool (n,)) restricts the assignment to those rows
+    (the others come back unmatched, NaN)."""
+    n = arm.chain.n_joints
+    uq, inv = np.unique(np.asarray(modal.q, float)[:, :n], axis=0, return_inverse=True)
+    F = np.atleast_2d(natural_frequencies(arm, uq))
+    pose = inv.ravel()
+    f_meas = np.asarray(modal.freq_hz, float)
+    rows = np.ones(len(f_meas), bool) if rows is None else np.asarray(rows, bool)
+    mode = np.zeros(len(f_meas), int)
+    hz = np.full(len(f_meas), np.nan)
+    matched = np.zeros(len(f_meas), bool)
+    for p in np.unique(pose[rows]):
+        r = np.flatnonzero((pose == p) & rows)
+        if len(r) > F.shape[1]:
+            raise ValueError(f"modal data give {len(r)} modes at pose "
+                             f"'{modal.poses[r[0]]}'; the model has {F.shape[1]}")
+        k, inside = _assign(f_meas[r], F[p], window)
+        mode[r], hz[r], matched[r] = k + 1, F[p][k], inside
+    return ModeMatch(hz, mode, matched, window)
+
+
+def model_frequencies(arm: ArmModel, modal: ModalData,
+                      window: float | None = MATCH_WINDOW) -> np.ndarray:
+    """(n,) model natural frequency [Hz] assigned to each row (pose, mode) of ``modal``.
+
+    The measured modes of a pose are matched to model modes by frequency
+    (:func:`match_frequencies`), not by their mode numbers; an unmatched row keeps the
+    model mode the assignment left it (:attr:`ModeMatch.matched` tells).
 
     Examples
     --------
@@ -44,14 +169,7 @@ def model_frequencies(arm: ArmModel, modal: ModalData) -> np.ndarray:
     >>> model_frequencies(arm, m).shape
     (1,)
     """
-    n = arm.chain.n_joints
-    uq, inv = np.unique(np.asarray(modal.q, float)[:, :n], axis=0, return_inverse=True)
-    F = np.atleast_2d(natural_frequencies(arm, uq))
-    k = np.asarray(modal.modes) - 1
-    if k.min() < 0 or k.max() >= F.shape[1]:
-        raise ValueError(f"modal data ask for modes 1..{k.max() + 1}; the model has "
-                         f"{F.shape[1]}")
-    return F[inv.ravel(), k]
+    return match_frequencies(arm, modal, window).model_hz
 
 
 class ModalProblem(Problem):
@@ -76,10 +194,20 @@ class ModalProblem(Problem):
         if not freq_noise > 0:
             raise ValueError(f"freq_noise must be > 0, got {freq_noise}")
         self.modal, self.freq_noise = modal, float(freq_noise)
-        self.f_sd = self.freq_noise * np.asarray(modal.freq_hz, float)
+        # measured modes without a model mode within the window (against the starting
+        # model) are reported and left out, so the number of observations stays fixed
+        match = match_frequencies(arm, modal)
+        self.modal_keep = match.matched
+        self.unmatched = tuple(match.unmatched(modal))
+        if self.unmatched:
+            log.warning("%d measured mode(s) left out, not matched to the model: %s",
+                        len(self.unmatched), "; ".join(self.unmatched))
+        self.f_meas = np.asarray(modal.freq_hz, float)[self.modal_keep]
+        self.f_sd = self.freq_noise * self.f_meas
 
     @property
     def n_modal(self) -> int:
+        """Number of measured frequencies in the fit (the matched ones)."""
         return len(self.f_sd)
 
     @property
@@ -87,22 +215,25 @@ class ModalProblem(Problem):
         return super().n_obs + self.n_modal
 
     def frequencies(self, effects) -> np.ndarray:
-        """(n_modal,) model frequencies [Hz] with ``effects``."""
+        """(n_modal,) model frequencies [Hz] with ``effects``, assigned to the kept measured
+        modes afresh for this model (no window: the assignment that minimises the modal
+        chi-square, so it is continuous when two model modes cross)."""
         arm, _ = self.model(effects)
-        return model_frequencies(arm, self.modal)
+        keep = self.modal_keep
+        return match_frequencies(arm, self.modal, None, keep).model_hz[keep]
 
     def wpredict(self, effects, rows: np.ndarray | None = None) -> np.ndarray:
         return np.r_[super().wpredict(effects, rows), self.frequencies(effects) / self.f_sd]
 
     def wy(self, rows: np.ndarray | None = None) -> np.ndarray:
-        return np.r_[super().wy(rows), np.asarray(self.modal.freq_hz, float) / self.f_sd]
+        return np.r_[super().wy(rows), self.f_meas / self.f_sd]
 
     def n_obs_rows(self, rows: np.ndarray | None = None) -> int:
         return super().n_obs_rows(rows) + self.n_modal
 
     def modal_chi2(self, effects) -> float:
         """chi^2 of the frequencies alone."""
-        r = (np.asarray(self.modal.freq_hz) - self.frequencies(effects)) / self.f_sd
+        r = (self.f_meas - self.frequencies(effects)) / self.f_sd
         return float(r @ r)
 
 

@@ -13,6 +13,7 @@ PERTURB = (1.3, 0.7, 1.3, 0.7, 1.3, 0.7)
 #: Coarse mesh [m] of the flexible model in the link-flexibility tests.
 FLEX_MESH = 0.06
 
+
 @pytest.fixture(scope="session")
 def demo():
     from flexarm.assembly.emodel import emodel
@@ -55,5 +56,22 @@ def flex(demo):
 
 def covers(value: float, sd: float, truth: float, z: float = 2.58) -> bool:
     return abs(value - truth) <= z * sd + 1e-15
+
+
+def noise_alone(problem, data, clean, modal_clean=None) -> tuple[float, float, int]:
+    """The truth's own fit to the data: (chi^2, RMS [m] of the relative residuals, n_obs).
+
+    ``clean``: the same lab data without noise (``noise=0``, same seed and effects);
+    ``modal_clean``: the noiseless frequencies, when ``problem`` holds modal data.
+    This chi^2 is chi^2(n_obs) distributed on every seed, so it tells an unlucky noise
+    draw (the truth itself outside the band) from a wrong final model.
+    """
+    r = data.disp - clean.disp
+    z = problem.whiten(r)
+    chi = float(z @ z)
+    if modal_clean is not None:
+        f = np.asarray(modal_clean.freq_hz, float)[problem.modal_keep]
+        chi += float((((problem.f_meas - f) / problem.f_sd) ** 2).sum())
+    return chi, float(np.sqrt(np.mean(r[~problem.is_ref] ** 2))), problem.n_obs
 
 np.seterr(all="ignore")
