@@ -26,7 +26,7 @@ from .effects import apply_effects
 from .fit import chi2_band
 from .linkflex import links_arm, split_links
 from .measurements import FrfData, ModalData
-from .modal import model_frequencies
+from .modal import match_frequencies
 
 __all__ = ["ModalComparison", "FrfComparison", "compare_modal", "compare_frf",
            "write_modal_report", "write_frf_report"]
@@ -39,8 +39,9 @@ def _model(arm: ArmModel, effects, flexible):
 
 @dataclass(frozen=True)
 class ModalComparison:
-    """Result of :func:`compare_modal`: ``table`` rows (pose, mode, measured_hz,
-    model_hz, error_hz, error_pct), ``chi2_red`` and its ``band``, ``rms_pct``."""
+    """Result of :func:`compare_modal`: ``table`` rows (pose, mode, model_mode, matched,
+    measured_hz, model_hz, error_hz, error_pct), ``chi2_red`` and its ``band`` and
+    ``rms_pct`` over the matched rows."""
 
     predicted: np.ndarray
     table: list
@@ -65,18 +66,23 @@ def compare_modal(arm: ArmModel, data: ModalData, effects=(), freq_noise: float 
     >>> len(cmp.table), cmp.table[0]["mode"]
     (1, 1)
     """
-    f_model = model_frequencies(_model(arm, effects, flexible), data)
+    # Measured modes are assigned to model modes by frequency, pose by pose; a row
+    # with no model mode inside the window is shown but kept out of chi2 and RMS.
+    match = match_frequencies(_model(arm, effects, flexible), data)
+    f_model = match.model_hz
     f_meas = np.asarray(data.freq_hz, float)
     err = f_model - f_meas
     rel = err / f_meas
-    rows = [{"pose": str(p), "mode": int(m), "measured_hz": float(a), "model_hz": float(b),
-             "error_hz": float(e), "error_pct": float(100 * r)}
-            for p, m, a, b, e, r in zip(data.poses, data.modes, f_meas, f_model, err, rel,
-                                        strict=True)]
-    z = rel / freq_noise
+    rows = [{"pose": str(p), "mode": int(m), "model_mode": int(k), "matched": bool(ok),
+             "measured_hz": float(a), "model_hz": float(b), "error_hz": float(e),
+             "error_pct": float(100 * r)}
+            for p, m, k, ok, a, b, e, r in zip(data.poses, data.modes, match.model_mode,
+                                               match.matched, f_meas, f_model, err, rel,
+                                               strict=True)]
+    z = rel[match.matched] / freq_noise
     n = max(len(z), 1)
     return ModalComparison(f_model, rows, float(z @ z / n), chi2_band(n),
-                           float(100 * np.sqrt(np.mean(rel**2))) if rel.size else 0.0)
+                           float(100 * np.sqrt(np.mean(z**2)) * freq_noise) if z.size else 0.0)
 
 
 @dataclass(frozen=True)

@@ -35,6 +35,25 @@ def test_compare_modal_exact_and_wrong_stiffness(tmp_path, demo):
     assert all(p.stat().st_size > 0 for p in paths)
 
 
+def test_compare_modal_matches_by_frequency_and_drops_spurious_lines(demo):
+    import dataclasses
+
+    robot, arm = demo
+    exact = virtual_modal(arm, _poses(robot), n_modes=3, freq_noise=0.0)
+    # modes 2 and 3 of P1 listed the other way round, and a spurious 1 Hz line at P2
+    order = [0, 2, 1, 3, 4, 5]
+    f = list(np.asarray(exact.freq_hz)[order]) + [1.0]
+    swapped = dataclasses.replace(
+        exact, poses=list(np.asarray(exact.poses)[order]) + ["P2"],
+        q=list(np.asarray(exact.q)[order]) + [exact.q[3]],
+        modes=list(np.asarray(exact.modes)[order]) + [4], freq_hz=f)
+    cmp = compare_modal(arm, swapped)
+    assert [r["model_mode"] for r in cmp.table[:3]] == [1, 3, 2]
+    assert [r["matched"] for r in cmp.table] == [True] * 6 + [False]
+    # the spurious line is shown but not scored: the matched rows are exact
+    assert cmp.chi2_red < 1e-12 and cmp.rms_pct < 1e-9
+
+
 def _frf_data(arm, robot, effects=()):
     from flexarm.validation.effects import apply_effects
 
