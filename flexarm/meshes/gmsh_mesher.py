@@ -51,7 +51,7 @@ from ..fe.errors import MeshError, MissingDependencyError
 from ..fe.mesh import TetMesh
 from ..fe.tolerances import tol
 from .quality import dihedral_angles
-from .tet_cache import load_cached, store_cached, tet_cache_key
+from .tet_cache import cached_tetrahedralization
 from .tetwild import _compact
 
 __all__ = [
@@ -492,45 +492,23 @@ def tetrahedralize_gmsh(
     >>> round(float(mesh.volumes().sum()), 12), bool((mesh.volumes() > 0).all())
     (0.001, True)
     """
-    size = float(size)
-    if not np.isfinite(size) or size <= 0:
-        raise ValueError(f"size must be a positive edge length [m], got {size}")
-    if order not in (1, 2):
-        raise ValueError(f"order must be 1 (Tet4) or 2 (Tet10), got {order}")
-    report = progress or (lambda message: None)
     if len(surface.faces) == 0 or not surface.is_watertight:
         raise MeshError(f"{name}: the surface is not closed (gmsh needs a watertight surface)")
     gmsh = _import_gmsh()
-    vertices = np.asarray(surface.vertices, dtype=np.float64)
-    faces = np.asarray(surface.faces, dtype=np.int64)
-    key = None
-    if cache:
-        key = tet_cache_key(vertices, faces, size, optimize, order, mesher="gmsh",
-                            settings=gmsh_settings())
-        cached = load_cached(key)
-        if cached is not None:
-            report(f"{name}: tetrahedral mesh from cache ({cached.n_tets} elements)")
-            return cached
 
-    logger.info("gmsh tetrahedralizing %s: %d faces, edge %.4g m", name, len(faces), size)
-    report(f"{name}: gmsh tetrahedralizing (edge {size:.4g} m, optimize={bool(optimize)})")
-    start = time.perf_counter()
-    mesh = _run(gmsh, surface, size, optimize, name, report)
-    problem, n_slivers, min_angle = _defects(mesh)
-    if problem is not None:
-        raise MeshError(f"{name}: gmsh gave {problem} (try mesher='tetwild')")
-    if n_slivers:
-        logger.warning("%s: %d sliver tetrahedra (smallest dihedral %.2f deg < %g deg)",
-                       name, n_slivers, min_angle, tol.sliver_dihedral_deg)
-    reference = float(surface.volume)
-    error = (float(mesh.volumes().sum()) - reference) / reference
-    if abs(error) > tol.tet_volume_warn:
-        logger.warning("%s: tetrahedra differ from the surface volume by %.2g%%", name, 100 * error)
-    if order == 2:
-        mesh = mesh.to_tet10()
-    if key is not None:
-        store_cached(key, mesh)
-    report(f"{name}: {mesh.n_tets} elements, {mesh.n_nodes} nodes")
-    logger.info("gmsh tetrahedralized %s: %d elements, %d nodes in %.1f s", name, mesh.n_tets,
-                mesh.n_nodes, time.perf_counter() - start)
-    return mesh
+    def make(vertices, faces, report):
+        logger.info("gmsh tetrahedralizing %s: %d faces, edge %.4g m", name, len(faces), size)
+        report(f"{name}: gmsh tetrahedralizing (edge {size:.4g} m, optimize={bool(optimize)})")
+        start = time.perf_counter()
+        mesh = _run(gmsh, surface, float(size), optimize, name, report)
+        problem, n_slivers, min_angle = _defects(mesh)
+        if problem is not None:
+            raise MeshError(f"{name}: gmsh gave {problem} (try mesher='tetwild')")
+        if n_slivers:
+            logger.warning("%s: %d sliver tetrahedra (smallest dihedral %.2f deg < %g deg)",
+                           name, n_slivers, min_angle, tol.sliver_dihedral_deg)
+        logger.info("%s: gmsh took %.1f s", name, time.perf_counter() - start)
+        return mesh
+
+    return cached_tetrahedralization(surface, size, optimize, order, cache, name, progress, make,
+                                     mesher="gmsh", settings=gmsh_settings())

@@ -7,6 +7,7 @@ format), written atomically, so an interrupted run never leaves a bad entry.
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +25,7 @@ __all__ = [
     "store_cached",
     "CACHE_VERSION",
     "MESHERS",
+    "cached_tetrahedralization",
 ]
 
 logger = logging.getLogger(__name__)
@@ -119,3 +121,50 @@ def store_cached(key: str, mesh: TetMesh) -> Path:
     npz.write(path, mesh)
     logger.info("tet cache stored %s", path)
     return path
+
+
+def cached_tetrahedralization(
+    surface,
+    size: float,
+    optimize: bool,
+    order: int,
+    cache: bool,
+    name: str,
+    progress: Callable[[str], None] | None,
+    make: Callable[[np.ndarray, np.ndarray, Callable[[str], None]], TetMesh],
+    mesher: str = "tetwild",
+    settings: tuple = (),
+) -> TetMesh:
+    """What every mesher shares around its own ``make(vertices, faces, report) -> Tet4``:
+    argument checks, the cache lookup and store, the volume check against the
+    surface, and the Tet10 promotion (see :func:`~flexarm.meshes.tetwild.tetrahedralize`
+    for the parameters)."""
+    size = float(size)
+    if not np.isfinite(size) or size <= 0:
+        raise ValueError(f"size must be a positive edge length [m], got {size}")
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 (Tet4) or 2 (Tet10), got {order}")
+    report = progress or (lambda message: None)
+    vertices = np.asarray(surface.vertices, dtype=np.float64)
+    faces = np.asarray(surface.faces, dtype=np.int64)
+    key = None
+    if cache:
+        key = tet_cache_key(vertices, faces, size, optimize, order, mesher=mesher,
+                            settings=settings)
+        cached = load_cached(key)
+        if cached is not None:
+            report(f"{name}: tetrahedral mesh from cache ({cached.n_tets} elements)")
+            return cached
+    mesh = make(vertices, faces, report)
+    reference = float(surface.volume)
+    error = (float(mesh.volumes().sum()) - reference) / reference
+    if abs(error) > tol.tet_volume_warn:
+        logger.warning("%s: tetrahedra differ from the surface volume by %.2g%%", name, 100 * error)
+    if order == 2:
+        mesh = mesh.to_tet10()
+    if key is not None:
+        store_cached(key, mesh)
+    report(f"{name}: {mesh.n_tets} elements, {mesh.n_nodes} nodes")
+    logger.info("tetrahedralized %s (%s): %d elements, %d nodes", name, mesher, mesh.n_tets,
+                mesh.n_nodes)
+    return mesh

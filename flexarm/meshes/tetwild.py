@@ -20,7 +20,7 @@ from ..fe.errors import MeshError, MissingDependencyError
 from ..fe.mesh import TetMesh
 from ..fe.tolerances import tol
 from .quality import dihedral_angles
-from .tet_cache import load_cached, store_cached, tet_cache_key
+from .tet_cache import cached_tetrahedralization
 
 __all__ = ["tetrahedralize", "MAX_TRIES", "RETRY_SHRINK"]
 
@@ -178,31 +178,8 @@ def tetrahedralize(
     MeshError
         No valid mesh after ``MAX_TRIES`` tries, or pytetwild failed.
     """
-    size = float(size)
-    if not np.isfinite(size) or size <= 0:
-        raise ValueError(f"size must be a positive edge length [m], got {size}")
-    if order not in (1, 2):
-        raise ValueError(f"order must be 1 (Tet4) or 2 (Tet10), got {order}")
-    report = progress or (lambda message: None)
-    vertices = np.asarray(surface.vertices, dtype=np.float64)
-    faces = np.asarray(surface.faces, dtype=np.int64)
-    key = tet_cache_key(vertices, faces, size, optimize, order) if cache else None
-    if key is not None:
-        cached = load_cached(key)
-        if cached is not None:
-            report(f"{name}: tetrahedral mesh from cache ({cached.n_tets} elements)")
-            return cached
+    def make(vertices, faces, report):
+        logger.info("tetrahedralizing %s: %d faces, edge %.4g m", name, len(faces), size)
+        return _mesh_checked(vertices, faces, float(size), optimize, name, report)
 
-    logger.info("tetrahedralizing %s: %d faces, edge %.4g m", name, len(faces), size)
-    mesh = _mesh_checked(vertices, faces, size, optimize, name, report)
-    reference = float(surface.volume)
-    error = (float(mesh.volumes().sum()) - reference) / reference
-    if abs(error) > tol.tet_volume_warn:
-        logger.warning("%s: tetrahedra differ from the surface volume by %.2g%%", name, 100 * error)
-    if order == 2:
-        mesh = mesh.to_tet10()
-    if key is not None:
-        store_cached(key, mesh)
-    report(f"{name}: {mesh.n_tets} elements, {mesh.n_nodes} nodes")
-    logger.info("tetrahedralized %s: %d elements, %d nodes", name, mesh.n_tets, mesh.n_nodes)
-    return mesh
+    return cached_tetrahedralization(surface, size, optimize, order, cache, name, progress, make)
