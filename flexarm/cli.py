@@ -371,17 +371,25 @@ def _add_import_urdf(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", required=True, help="robot.toml to write")
     p.add_argument("--meshes", default="collision", choices=["collision", "visual"],
                    help="which URDF meshes become the link CAD")
+    p.add_argument("--total-mass", type=float, default=None, metavar="KG",
+                   help="scale the link densities so the robot weighs KG (solid CAD hulls of "
+                        "hollow castings are far too heavy otherwise)")
 
 
 @command("import-urdf", "write a robot TOML from a URDF (origins, axes, limits, STL meshes)",
          _add_import_urdf)
 def _run_import_urdf(args) -> int:
+    from .assembly.emodel import total_mass, with_total_mass
     from .assembly.formats import toml as robot_toml
     from .assembly.formats import urdf
 
     robot = urdf.read(args.urdf, meshes=args.meshes)
+    solid = total_mass(robot, "surface")
+    if args.total_mass is not None:
+        robot = with_total_mass(robot, args.total_mass)
     robot_toml.write(args.output, robot)
-    _print(f"wrote {args.output}: {len(robot.links)} links, {len(robot.joints)} joints")
+    _print(f"wrote {args.output}: {len(robot.links)} links, {len(robot.joints)} joints, "
+           f"{total_mass(robot, 'surface'):.1f} kg (solid CAD: {solid:.1f} kg)")
     return 0
 
 

@@ -19,7 +19,7 @@ from .bodies import combine_mass_properties, point_mass_properties, rigid_body
 from .robot import UNITS, Link, Robot
 from .system import ArmModel
 
-__all__ = ["link_mass_properties", "emodel", "total_mass"]
+__all__ = ["link_mass_properties", "emodel", "total_mass", "with_total_mass"]
 
 log = logging.getLogger(__name__)
 
@@ -90,6 +90,32 @@ def total_mass(robot: Robot, method: str = "tets", mesh_size: float = 0.04) -> f
     """Total mass of the robot [kg] (links and lumped masses)."""
     return sum(link_mass_properties(lk, method, mesh_size, robot.options.mesher).mass
                for lk in robot.links)
+
+
+def with_total_mass(robot: Robot, mass_kg: float, method: str = "surface",
+                    mesh_size: float = 0.04) -> Robot:
+    """``robot`` with every link's density scaled by one factor so that its total mass
+    (CAD solids + lumped masses) is ``mass_kg`` [kg].
+
+    For CAD that is a solid hull of a hollow casting (URDF collision meshes): the
+    datasheet mass is known, the wall thickness is not.  Stiffness (E, nu) is kept.
+    """
+    import dataclasses
+
+    solid = sum(_mesh_mass_properties(lk, method, mesh_size, robot.options.mesher).mass
+                for lk in robot.links if lk.mesh is not None)
+    lumped = total_mass(robot, method, mesh_size) - solid
+    if not np.isfinite(mass_kg) or mass_kg <= lumped or solid <= 0:
+        raise ValueError(f"total mass {mass_kg:g} kg must exceed the lumped masses "
+                         f"({lumped:g} kg) of a robot with CAD solids")
+    factor = (mass_kg - lumped) / solid
+    links = tuple(
+        lk if lk.mesh is None else dataclasses.replace(
+            lk, material=dataclasses.replace(lk.material, rho=lk.material.rho * factor,
+                                             name=f"{lk.material.name} (hollow-equivalent)"))
+        for lk in robot.links)
+    log.info("densities scaled by %.4f for a total of %.1f kg", factor, mass_kg)
+    return dataclasses.replace(robot, links=links)
 
 
 def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04,

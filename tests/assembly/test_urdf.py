@@ -70,3 +70,27 @@ def test_cli_import_urdf(tmp_path):
         warnings.simplefilter("ignore")
         assert main(["import-urdf", str(IRB_URDF), "-o", str(out)]) == 0
     assert robot_toml.read(out).joint_names[-1] == "joint_6"
+
+
+def test_import_urdf_total_mass(tmp_path, capsys):
+    """The IRB 4600 collision hulls are solid: ~1,790 kg of cast iron for a 435 kg robot.
+    ``--total-mass`` scales every density by one factor; the file keeps it."""
+    from flexarm.assembly.emodel import total_mass
+    from flexarm.cli import main
+
+    if not IRB_URDF.is_file():
+        pytest.skip("shared IRB 4600 data not present")
+    out = tmp_path / "irb.toml"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["import-urdf", str(IRB_URDF), "-o", str(out), "--total-mass", "435"]) == 0
+        solid = total_mass(urdf.read(IRB_URDF), "surface")
+    back = robot_toml.read(out)
+    assert total_mass(back, "surface") == pytest.approx(435.0, rel=1e-9)
+    rho = {lk.material.rho for lk in back.links if lk.mesh is not None}
+    assert len(rho) == 1 and rho.pop() == pytest.approx(7100.0 * 435.0 / solid, rel=1e-9)
+    assert "435.0 kg" in capsys.readouterr().out
+    with pytest.raises(ValueError, match="must exceed the lumped masses"):
+        from flexarm.assembly.emodel import with_total_mass
+
+        with_total_mass(back, 0.0)
