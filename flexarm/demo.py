@@ -452,9 +452,17 @@ def _run_parallel(out: Path, report: DemoReport, progress: Progress, size: float
     import threading
     from concurrent.futures import ProcessPoolExecutor
 
+    from .assembly.emodel import total_mass
+    from .meshes.demo_arm import load_demo_robot
     from .reduction.render import prefetch_render_backend
 
     prefetch_render_backend()
+    # Mesh every link here first (reads the caches when warm): the worker's E-model mass
+    # properties and this process's superelements must come from the same tetrahedra,
+    # and pytetwild gives a different mesh each time it runs.
+    robot = load_demo_robot()
+    progress("arm: tetrahedral meshes of the links (cached after the first run)")
+    total_mass(robot, "tets", robot.options.mesh_size)
     # spawn, not fork: this process may already hold MKL/OpenMP threads.
     ctx = multiprocessing.get_context("spawn")
     queue = ctx.SimpleQueue()
