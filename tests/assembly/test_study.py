@@ -128,3 +128,20 @@ def test_cli_study_arguments(monkeypatch, tmp_path):
                  "--couplings", "rbe2,k4", "-o", str(tmp_path)]) == 0
     assert seen == {"pose": "P2", "sizes": [0.06, 0.03], "modes": [0, 5],
                     "couplings": ["rbe2", "k4"], "out": str(tmp_path)}
+
+
+def test_verdict_names_a_seat_model_that_modes_cannot_fix():
+    from flexarm.assembly.study import StudyRow
+
+    def row(coupling, n, err):
+        return StudyRow(0.03, coupling, n, f"CB({n})", 50 + n, 1000, err, err, 0.0, 0.0, 1.0, 0.01)
+
+    rows = [row("rbe2", 0, 0.008), row("rbe2", 5, 0.0003),
+            row("rbe3", 0, 0.36), row("rbe3", 5, 0.355)]
+    text = verdict(rows, reference_coupling="rbe2").splitlines()
+    assert text[0].startswith("within 1%: CB(0) rbe2") and text[1].startswith("within 0.1%: CB(5)")
+    assert text[2] == ("rbe3: at best 35.5% from the rbe2 reference, whatever the modes: it models "
+                       "the joint seats differently (compare with reference_coupling='rbe3')")
+    # within the loosest level somewhere: no such line
+    assert len(verdict(rows[:2] + [row("rbe3", 10, 0.009)], reference_coupling="rbe2")
+               .splitlines()) == 2
