@@ -430,6 +430,9 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     out.mkdir(parents=True, exist_ok=True)
     report = DemoReport(out)
     t0 = time.perf_counter()
+    if jobs > 1 and not _can_spawn():
+        progress("demo: no process semaphores here (/dev/shm?), running the steps in order")
+        jobs = 1
     if jobs <= 1:
         if part:
             _part_step(out, report, progress, size)
@@ -443,6 +446,18 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     with atomic_path(out / "index.md") as tmp:
         tmp.write_text("\n".join(head + report.lines) + "\n")
     return report
+
+
+def _can_spawn() -> bool:
+    """True when this platform gives multiprocessing its locks (some containers have
+    no /dev/shm, and every queue needs a semaphore)."""
+    import multiprocessing
+
+    try:
+        multiprocessing.get_context("spawn").SimpleQueue()
+    except (OSError, ImportError):
+        return False
+    return True
 
 
 def _run_parallel(out: Path, report: DemoReport, progress: Progress, size: float,

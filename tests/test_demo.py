@@ -39,3 +39,18 @@ def test_full_demo_writes_index(tmp_path):
     index = (tmp_path / "demo" / "index.md").read_text()
     assert "E-model" in index and "backlash" in index
     assert 5.0 < report.figures["emodel_P1_defl_800N_y_mm"] < 7.0
+
+
+def test_can_spawn_falls_back_without_semaphores(monkeypatch):
+    import multiprocessing
+
+    from flexarm.demo import _can_spawn
+
+    assert _can_spawn()
+
+    class NoLocks:
+        def SimpleQueue(self):  # noqa: N802 - the multiprocessing name
+            raise OSError(38, "Function not implemented")
+
+    monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoLocks())
+    assert not _can_spawn()
