@@ -36,9 +36,11 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from typing import NoReturn
 
 import numpy as np
 
+from .block_lanczos import Expansion, KrylovState, append, expand, start, sym
 from .errors import ConvergenceError
 
 __all__ = ["BlockLanczosInfo", "block_shift_invert", "default_block_size", "default_basis_size"]
@@ -46,16 +48,6 @@ __all__ = ["BlockLanczosInfo", "block_shift_invert", "default_block_size", "defa
 log = logging.getLogger(__name__)
 
 _EPS = np.finfo(np.float64).eps
-#: A block direction whose M-norm after orthogonalisation is below this fraction of the
-#: block's norm before it is rounding noise (the Krylov space is invariant there): it is
-#: replaced by a fresh random direction, as ARPACK restarts on an invariant subspace.
-_NOISE = 1e3 * _EPS
-#: Orthonormalising a block that lost more than this factor of its norm in the projection
-#: magnifies its rounding-level components along the basis: project once more.
-_REPROJECT = 1e2
-#: A block whose Gram matrix has a condition number below this is orthonormalised in one
-#: pass (the error is ~eps * cond); otherwise twice, like CholeskyQR2.
-_WELL_CONDITIONED = 1e2
 #: Lock converged pairs early when the largest active |theta| exceeds a wanted pair's by
 #: more than this: H's rounding (eps * max |theta|) would otherwise limit that pair.
 _LOCK_SPREAD = 1e3
@@ -117,54 +109,154 @@ def _keep(n: int, m: int, p: int) -> int:
     return min(max(n, (m + n) // 2 - p // 2), m - p)
 
 
-def _sym(A: np.ndarray) -> np.ndarray:
-    return 0.5 * (A + A.T)
+@dataclass(frozen=True, eq=False)
+class _Ritz:
+    """Rayleigh-Ritz pairs of the active part of H, largest |theta| first.
 
-
-def _project_out(W: np.ndarray, V: np.ndarray, MV: np.ndarray) -> np.ndarray:
-    """Remove span(V) from W in place by one block classical Gram-Schmidt pass (two
-    matrix products); return the coefficients C with W_in = V C + W_out."""
-    C = MV.T @ W
-    W -= V @ C
-    return C
-
-
-def _orthonormal_block(W: np.ndarray, MW: np.ndarray, ref: float, V, MV, M, rng):
-    """An M-orthonormal basis Q of span(W), M-orthogonal to V, and ``M @ Q``.
-
-    ``W`` (n, p) is already M-orthogonal to V up to ``eps * ref``, where ``ref`` is its
-    largest M-norm before the projection; ``MW = M @ W``.  Orthonormalisation by the
-    eigen-decomposition of the Gram matrix (SVQB, Stathopoulos & Wu 2002), repeated until
-    the Gram matrix is the identity (two passes as a rule, like CholeskyQR2).  Scaling by
-    1/sqrt(s) magnifies the rounding along V by ``ref / sqrt(s_min)``: only then is Q
-    projected against V again (one extra pass over the basis).  Directions whose norm
-    fell to rounding level (the Krylov space is invariant there) are replaced by random
-    ones, as ARPACK restarts on an invariant subspace.
+    Attributes
+    ----------
+    theta : (a,) float
+        Ritz values [s^2/rad^2] (``1 / (lam - sigma)``).
+    S : (a, a) float
+        Their eigenvectors in the active columns ``V[:, nl:kb]``.
+    conv, resolved : (a,) bool
+        Converged; far enough from the largest |theta| to be locked (see ``_LOCK_SPREAD``).
+    wanted : (n,) int
+        The ``n`` largest |theta| among ``[theta_l, theta]``, locked ones first.
+    wa : int array
+        The active ones among ``wanted``, indices into ``theta``.
+    lockable : int array
+        Those of ``wa`` that are converged and resolved.
     """
-    Q, MQ = W, MW
-    for it in range(4):
-        s, U = np.linalg.eigh(_sym(Q.T @ MQ))
-        well_conditioned = s.min() > 0 and (
-            np.abs(s - 1.0).max() < 1e-6 if it > 0
-            else s.max() < _WELL_CONDITIONED * s.min() and ref / np.sqrt(s.min()) <= _REPROJECT)
-        if well_conditioned:
-            # one more scaling is accurate to eps * cond: M Q follows linearly (no further
-            # product with M) and Q stays M-orthogonal to V.  A single vector (p = 1)
-            # always ends here after one pass.
-            T = U / np.sqrt(s)
-            return np.asfortranarray(Q @ T), np.asfortranarray(MQ @ T)
-        noise = s <= (_NOISE * ref) ** 2
-        s_ok = np.where(noise, 1.0, s)
-        Q = np.asfortranarray(Q @ (U / np.sqrt(s_ok)))
-        if np.any(noise):
-            Q[:, noise] = rng.standard_normal((Q.shape[0], int(noise.sum())))
-        if np.any(noise) or ref / np.sqrt(s_ok.min()) > _REPROJECT:
-            _project_out(Q, V, MV)
-            _project_out(Q, V, MV)
-        MQ = M @ Q
-        ref = 1.0
-    raise ConvergenceError("block Lanczos: could not M-orthonormalise a block (is M positive "
-                           "definite on the free DOFs?)")
+
+    theta: np.ndarray
+    S: np.ndarray
+    conv: np.ndarray
+    resolved: np.ndarray
+    wanted: np.ndarray
+    wa: np.ndarray
+    lockable: np.ndarray
+
+
+def _rayleigh_ritz(st: KrylovState, blk: Expansion, n: int, tol: float) -> _Ritz:
+    """Ritz pairs of the active part of H with their convergence and locking state."""
+    nl, kb = st.nl, blk.kb
+    theta, S = np.linalg.eigh(sym(st.H[nl:kb, nl:kb]))
+    order = np.argsort(-np.abs(theta), kind="stable")
+    theta, S = theta[order], S[:, order]
+    if blk.grow > 0:
+        resid = np.linalg.norm(blk.B @ S[st.k - nl:kb - nl, :], axis=0)
+    else:  # the basis spans the whole space: the Ritz pairs are exact
+        resid = np.zeros(theta.size)
+    # ARPACK's test resid <= tol |theta_i|, floored at _FLOOR * max |theta| over
+    # the active pairs: these residuals are true projections (they include the
+    # rounding of the solves), which settle near that level instead of falling on
+    # like ARPACK's recurrence-based estimates.
+    big = np.abs(theta[0])
+    rel = resid / np.maximum(np.abs(theta), np.finfo(np.float64).tiny)
+    conv = resid <= np.maximum(tol * np.abs(theta), _FLOOR * big)
+    wanted = np.argsort(-np.abs(np.concatenate([st.theta_l, theta])), kind="stable")[:n]
+    wa = wanted[wanted >= nl] - nl
+    # A pair whose |theta| is far below the largest active one is limited by that
+    # floor (the rigid modes of a free part against its elastic ones): it is only
+    # accepted once the large pairs are locked, which lowers the floor.
+    resolved = np.abs(theta) * _LOCK_SPREAD >= big
+    _accept_stalled(st.history, wa[~conv[wa]], rel, resid, big, conv)
+    lockable = wa[conv[wa] & resolved[wa]]
+    return _Ritz(theta, S, conv, resolved, wanted, wa, lockable)
+
+
+def _accept_stalled(history: list[float], todo: np.ndarray, rel: np.ndarray,
+                    resid: np.ndarray, big: float, conv: np.ndarray) -> None:
+    """Mark the unconverged wanted pairs ``todo`` converged (in ``conv``) once stalled.
+
+    Where the solves are noisier than the floor (a nearly singular K - sigma M), the
+    residuals stall: they are accepted once the worst wanted one (``rel``, relative to
+    |theta|) has not halved in _STALL Ritz steps, if ``resid`` is below _STALL_CAP times
+    ``big``, the largest active |theta|.
+    """
+    history.append(float(rel[todo].max()) if todo.size else 0.0)
+    if (todo.size and len(history) > _STALL and history[-1] > 0.5 * history[-1 - _STALL]
+            and np.all(resid[todo] <= _STALL_CAP * big)):
+        log.debug("block Lanczos: residuals stall at %.1e relative, accepted", history[-1])
+        conv[todo] = True
+
+
+def _give_up(st: KrylovState, blk: Expansion, rr: _Ritz, n: int, sigma: float) -> NoReturn:
+    """Raise :class:`ConvergenceError` carrying the pairs converged so far."""
+    wl = rr.wanted[rr.wanted < st.nl]
+    X = np.hstack([st.V[:, wl], st.V[:, st.nl:blk.kb] @ rr.S[:, rr.lockable]])
+    done = np.concatenate([st.theta_l[wl], rr.theta[rr.lockable]])
+    raise ConvergenceError(
+        f"block shift-invert Lanczos converged {done.size} of {n} modes after "
+        f"{st.restarts} restarts ({st.n_solves} solves, block {st.p}, basis {st.m}); "
+        "try a shift nearer the wanted modes or a larger basis (ncv)",
+        sigma + 1.0 / done, X,
+    )
+
+
+def _thick_restart(st: KrylovState, blk: Expansion, rr: _Ritz, n: int, keep: int) -> None:
+    """Lock the converged wanted pairs, keep the best other Ritz vectors (up to ``keep``
+    columns in all) with their coupling to the next block, and grow again from it."""
+    st.restarts += 1
+    nl, kb, grow, theta = st.nl, blk.kb, blk.grow, rr.theta
+    new_lock = rr.lockable
+    rest = np.setdiff1d(np.arange(theta.size), new_lock)
+    rest = rest[np.argsort(-np.abs(theta[rest]), kind="stable")]
+    n_active = min(rest.size, max(keep - nl - new_lock.size,
+                                  np.setdiff1d(rr.wa, new_lock).size))
+    rest = rest[:n_active]
+    if nl + new_lock.size + n_active + grow > st.m:
+        raise ConvergenceError(f"block shift-invert Lanczos: basis {st.m} too small for {n} "
+                               "modes; give a larger basis (ncv)")
+    cols = np.concatenate([new_lock, rest])
+    Y = st.V[:, nl:kb] @ rr.S[:, cols]
+    MY = st.MV[:, nl:kb] @ rr.S[:, cols]
+    nk = cols.size
+    st.V[:, nl:nl + nk], st.MV[:, nl:nl + nk] = Y, MY
+    st.theta_l = np.concatenate([st.theta_l, theta[new_lock]])
+    nl_new = nl + new_lock.size
+    ka = nl_new + n_active  # end of the kept active Ritz vectors
+    H = st.H
+    H[:] = 0.0
+    H[nl_new:ka, nl_new:ka] = np.diag(theta[rest])
+    coupling = blk.B @ rr.S[st.k - nl:kb - nl, rest]
+    H[ka:ka + grow, nl_new:ka] = coupling  # residual block of the kept vectors
+    H[nl_new:ka, ka:ka + grow] = coupling.T
+    st.V[:, ka:ka + grow], st.MV[:, ka:ka + grow] = blk.Q, blk.MQ
+    st.nl, st.prev, st.k, st.pb = nl_new, nl_new, ka, grow
+
+
+def _refine_small(st: KrylovState, X: np.ndarray, theta_w: np.ndarray) -> None:
+    """Recompute, in place, the pairs whose |theta| is far below the largest.
+
+    With a spread of |theta| (free part: rigid ~1/|sigma|, elastic ~1/lam) the small
+    theta from H carry the rounding of the large ones (measured on the free Tet10 bar:
+    8e-10 relative, ARPACK's 6e-11), while the vectors are accurate.  One more solve on
+    them and a Rayleigh-Ritz step gives theta to ~1e-12.
+    """
+    small = np.abs(theta_w) * _LOCK_SPREAD < np.abs(theta_w).max()
+    if small.any():
+        Xs = X[:, small]
+        Y = st.solve(np.asfortranarray(st.M @ Xs))
+        st.n_solves += Xs.shape[1]
+        st.n_blocks += 1
+        t, U = np.linalg.eigh(sym(Xs.T @ (st.M @ Y)))
+        X[:, small], theta_w[small] = Xs @ U, t
+
+
+def _result(st: KrylovState, blk: Expansion, rr: _Ritz, sigma: float):
+    """``(lam, X, info)`` of the wanted pairs, locked and active, nearest the shift first."""
+    # (a locked pair can drop out of the wanted set when copies of a multiple
+    # eigenvalue nearer the shift appear late)
+    wl = rr.wanted[rr.wanted < st.nl]
+    X = np.hstack([st.V[:, wl], st.V[:, st.nl:blk.kb] @ rr.S[:, rr.wa]])
+    theta_w = np.concatenate([st.theta_l[wl], rr.theta[rr.wa]])
+    _refine_small(st, X, theta_w)
+    order = np.argsort(-np.abs(theta_w), kind="stable")
+    info = BlockLanczosInfo(st.p, st.m, st.n_solves, st.n_blocks, st.restarts)
+    log.debug("block Lanczos: %s", info)
+    return sigma + 1.0 / theta_w[order], X[:, order], info
 
 
 def block_shift_invert(M, n: int, solve, sigma: float, *, block_size: int | None = None,
@@ -216,153 +308,17 @@ def block_shift_invert(M, n: int, solve, sigma: float, *, block_size: int | None
     tol = max(float(tol), _EPS)
     keep = _keep(n, m, p) if m < size else m
 
-    rng = np.random.default_rng(seed)
-    V = np.empty((size, m), order="F")  # [locked | active basis | newest block]
-    MV = np.empty((size, m), order="F")
-    H = np.zeros((m, m))  # V^T M OP V on the active columns
-    # start block: OP applied to a random block, M-orthonormalised.  Like ARPACK's
-    # generalised mode, this puts it in the range of OP, so a singular M (massless DOFs)
-    # cannot leave a component the M-inner product does not see.
-    W = np.asfortranarray(solve(np.asfortranarray(M @ rng.standard_normal((size, p)))))
-    MW = M @ W
-    Q, MQ = _orthonormal_block(W, MW, float(np.sqrt(np.einsum("ij,ij->j", W, MW)).max()),
-                               V[:, :0], MV[:, :0], M, rng)
-    V[:, :p], MV[:, :p] = Q, MQ
-    nl = 0  # locked (converged) eigenvectors V[:, :nl], eigenvalues theta_l
-    theta_l = np.zeros(0)
-    k = 0  # columns of V whose OP-image is in H (the basis is V[:, :k + pb])
-    pb = p  # width of the newest block V[:, k:k + pb]
-    prev = 0  # start of the block before it (nl after a restart: the kept Ritz vectors)
-    n_solves, n_blocks, restarts = p, 1, 0
-    history: list[float] = []  # worst relative residual of the unconverged wanted pairs
+    st = start(M, solve, size, p, m, seed)
     while True:
-        # ---- expand: W = OP V_new, coefficients against the whole basis
-        kb = k + pb
-        W = np.asfortranarray(solve(np.asfortranarray(MV[:, k:kb])))
-        n_solves += pb
-        n_blocks += 1
-        # In exact arithmetic W couples only to the newest and the previous block (block
-        # Lanczos' three-term recurrence; after a restart, to the kept Ritz vectors):
-        # remove those large components first, then one pass over the whole basis takes
-        # out the rounding-level rest, which keeps the basis orthogonal to machine
-        # precision with two passes over V instead of the four of plain CGS2.
-        C = np.zeros((kb, pb))
-        C[prev:kb] = _project_out(W, V[:, prev:kb], MV[:, prev:kb])
-        C += _project_out(W, V[:, :kb], MV[:, :kb])
-        # components along locked eigenvectors are at their residual level: dropped
-        H[nl:kb, k:kb] = C[nl:]
-        grow = min(p, size - kb)  # the next block (narrower only when the space runs out)
-        if grow > 0:
-            MW = M @ W
-            Wq, MWq = W, MW
-            if grow < pb:  # keep the largest directions of what is left
-                _, U = np.linalg.eigh(_sym(W.T @ MW))
-                Wq, MWq = W @ U[:, -grow:], MW @ U[:, -grow:]
-            ref = float(np.sqrt((C * C).sum(axis=0) + np.einsum("ij,ij->j", W, MW)).max())
-            Q, MQ = _orthonormal_block(Wq, MWq, ref, V[:, :kb], MV[:, :kb], M, rng)
-            # the coupling by projection, so that OP V = V H + Q B holds to rounding
-            # however ill-conditioned W was
-            B = MQ.T @ W
-        else:
-            B = np.zeros((0, pb))
-        # ---- Rayleigh-Ritz on the active part of the projected matrix
-        theta, S = np.linalg.eigh(_sym(H[nl:kb, nl:kb]))
-        order = np.argsort(-np.abs(theta), kind="stable")
-        theta, S = theta[order], S[:, order]
-        if grow > 0:
-            resid = np.linalg.norm(B @ S[k - nl:kb - nl, :], axis=0)
-        else:  # the basis spans the whole space: the Ritz pairs are exact
-            resid = np.zeros(theta.size)
-        # ARPACK's test resid <= tol |theta_i|, floored at _FLOOR * max |theta| over
-        # the active pairs: these residuals are true projections (they include the
-        # rounding of the solves), which settle near that level instead of falling on
-        # like ARPACK's recurrence-based estimates.
-        big = np.abs(theta[0])
-        rel = resid / np.maximum(np.abs(theta), np.finfo(np.float64).tiny)
-        conv = resid <= np.maximum(tol * np.abs(theta), _FLOOR * big)
-        # the wanted pairs: the n largest |theta| among locked and active
-        wanted = np.argsort(-np.abs(np.concatenate([theta_l, theta])), kind="stable")[:n]
-        wa = wanted[wanted >= nl] - nl
-        # A pair whose |theta| is far below the largest active one is limited by that
-        # floor (the rigid modes of a free part against its elastic ones): it is only
-        # accepted once the large pairs are locked, which lowers the floor.
-        resolved = np.abs(theta) * _LOCK_SPREAD >= big
-        # Where the solves are noisier than that floor (a nearly singular K - sigma M),
-        # the residuals stall: accept them once the worst wanted one has not halved in
-        # _STALL Ritz steps, if it is below the cap.
-        todo = wa[~conv[wa]]
-        history.append(float(rel[todo].max()) if todo.size else 0.0)
-        if (todo.size and len(history) > _STALL and history[-1] > 0.5 * history[-1 - _STALL]
-                and np.all(resid[todo] <= _STALL_CAP * big)):
-            log.debug("block Lanczos: residuals stall at %.1e relative, accepted", history[-1])
-            conv[todo] = True
-        lockable = wa[conv[wa] & resolved[wa]]
-        if conv[wa].all():
-            if resolved[wa].all() or grow == 0:  # (a full space: the pairs are exact)
-                break
-            lock_now = True
-        elif kb + grow <= m:  # room left: append the new block
-            V[:, kb:kb + grow], MV[:, kb:kb + grow] = Q, MQ
-            H[kb:kb + grow, k:kb] = B
-            prev, k, pb = k, kb, grow
+        blk = expand(st)
+        rr = _rayleigh_ritz(st, blk, n, tol)
+        if rr.conv[rr.wa].all():
+            if rr.resolved[rr.wa].all() or blk.grow == 0:  # (a full space: pairs are exact)
+                return _result(st, blk, rr, sigma)
+            # lock the resolved pairs now: that lowers the floor of the small ones
+        elif blk.kb + blk.grow <= m:  # room left: append the new block
+            append(st, blk)
             continue
-        else:
-            lock_now = False
-        if not lock_now and restarts >= max_restarts:
-            wl = wanted[wanted < nl]
-            X = np.hstack([V[:, wl], V[:, nl:kb] @ S[:, lockable]])
-            done = np.concatenate([theta_l[wl], theta[lockable]])
-            raise ConvergenceError(
-                f"block shift-invert Lanczos converged {done.size} of {n} modes after "
-                f"{restarts} restarts ({n_solves} solves, block {p}, basis {m}); "
-                "try a shift nearer the wanted modes or a larger basis (ncv)",
-                sigma + 1.0 / done, X,
-            )
-        # ---- thick restart: lock the converged wanted pairs, keep the best other
-        # Ritz vectors with their coupling to Q, and grow again from Q
-        restarts += 1
-        new_lock = lockable
-        rest = np.setdiff1d(np.arange(theta.size), new_lock)
-        rest = rest[np.argsort(-np.abs(theta[rest]), kind="stable")]
-        n_active = min(rest.size, max(keep - nl - new_lock.size, np.setdiff1d(wa, new_lock).size))
-        rest = rest[:n_active]
-        if nl + new_lock.size + n_active + grow > m:
-            raise ConvergenceError(f"block shift-invert Lanczos: basis {m} too small for {n} "
-                                   "modes; give a larger basis (ncv)")
-        cols = np.concatenate([new_lock, rest])
-        Y = V[:, nl:kb] @ S[:, cols]
-        MY = MV[:, nl:kb] @ S[:, cols]
-        nk = cols.size
-        V[:, nl:nl + nk], MV[:, nl:nl + nk] = Y, MY
-        theta_l = np.concatenate([theta_l, theta[new_lock]])
-        nl += new_lock.size
-        ka = nl + n_active  # end of the kept active Ritz vectors
-        H[:] = 0.0
-        H[nl:ka, nl:ka] = np.diag(theta[rest])
-        coupling = B @ S[k - (nl - new_lock.size):kb - (nl - new_lock.size), rest]
-        H[ka:ka + grow, nl:ka] = coupling  # residual block of the kept vectors
-        H[nl:ka, ka:ka + grow] = coupling.T
-        V[:, ka:ka + grow], MV[:, ka:ka + grow] = Q, MQ
-        prev, k, pb = nl, ka, grow
-    # (a locked pair can drop out of the wanted set when copies of a multiple
-    # eigenvalue nearer the shift appear late)
-    wl = wanted[wanted < nl]
-    X = np.hstack([V[:, wl], V[:, nl:kb] @ S[:, wa]])
-    theta_w = np.concatenate([theta_l[wl], theta[wa]])
-    small = np.abs(theta_w) * _LOCK_SPREAD < np.abs(theta_w).max()
-    if small.any():
-        # With a spread of |theta| (free part: rigid ~1/|sigma|, elastic ~1/lam) the
-        # small theta from H carry the rounding of the large ones (measured on the free
-        # Tet10 bar: 8e-10 relative, ARPACK's 6e-11), while the vectors are accurate.
-        # One more solve on them and a Rayleigh-Ritz step gives theta to ~1e-12.
-        Xs = X[:, small]
-        Y = solve(np.asfortranarray(M @ Xs))
-        n_solves += Xs.shape[1]
-        n_blocks += 1
-        t, U = np.linalg.eigh(_sym(Xs.T @ (M @ Y)))
-        X[:, small], theta_w[small] = Xs @ U, t
-    # locked and active wanted pairs, nearest the shift first
-    order = np.argsort(-np.abs(theta_w), kind="stable")
-    info = BlockLanczosInfo(p, m, n_solves, n_blocks, restarts)
-    log.debug("block Lanczos: %s", info)
-    return sigma + 1.0 / theta_w[order], X[:, order], info
+        elif st.restarts >= max_restarts:
+            _give_up(st, blk, rr, n, sigma)
+        _thick_restart(st, blk, rr, n, keep)

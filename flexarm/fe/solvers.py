@@ -220,24 +220,58 @@ def _mkl_pardiso():
     return fn
 
 
-# PARDISO matrix types: 2 = real SPD, -2 = real symmetric indefinite.
 def _pardiso(A: sp.csr_matrix, spd: bool):
+    """Factorise ``A`` with MKL PARDISO; return ``solve(b)`` for (n,) or (n, k) arrays.
+
+    MKL's memory for the factor is released when ``solve`` is garbage-collected.
+    """
     if not _has("pypardiso"):
         raise MissingDependencyError("pypardiso", "the PARDISO backend")
     pardiso = _mkl_pardiso()
-    # Symmetric types read the upper triangle only, 1-based int32 CSR.
+    ia, ja, data = _pardiso_upper(A)
+    mtype = 2 if spd else -2  # PARDISO matrix types: real SPD, real symmetric indefinite
+    pt = np.zeros(64, dtype=np.int64)  # PARDISO's opaque handle (64-bit pointers)
+    iparm = _pardiso_iparm(spd)
+    perm = np.zeros(0, dtype=np.int32)
+    call = _pardiso_caller(pardiso, mtype, spd, A.shape[0], (pt, iparm, perm, data, ia, ja))
+    call(12, None)  # analysis + numerical factorisation
+    if spd and iparm[29] > 0:  # number of zero or negative pivots
+        raise SingularMatrixError("matrix is not positive definite: is the part fully supported?")
+
+    def solve(b: np.ndarray) -> np.ndarray:
+        return call(33, b)
+
+    # Keep the handle alive as long as the solve closure lives; release MKL memory after.
+    import weakref
+
+    def release(arrays=(pt, iparm, perm, data, ia, ja)):  # keep them alive until then
+        try:
+            call(-1, None)
+        except Exception:  # noqa: BLE001 - best effort at interpreter shutdown
+            pass
+
+    weakref.finalize(solve, release)
+    return solve
+
+
+def _pardiso_upper(A: sp.csr_matrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The upper triangle of ``A`` as PARDISO's CSR arrays ``(ia, ja, data)``.
+
+    Symmetric matrix types read the upper triangle only, as 1-based int32 CSR with sorted
+    columns.
+    """
     U = sp.triu(A, format="csr")
     U.sort_indices()
     if np.any(np.diff(U.indptr) == 0):
         raise SingularMatrixError("matrix has an empty row (a DOF with no stiffness)")
-    mtype = 2 if spd else -2
-    pt = np.zeros(64, dtype=np.int64)  # PARDISO's opaque handle (64-bit pointers)
-    iparm = np.zeros(64, dtype=np.int32)
-    perm = np.zeros(0, dtype=np.int32)
     ia = (U.indptr + 1).astype(np.int32)
     ja = (U.indices + 1).astype(np.int32)
-    data = np.ascontiguousarray(U.data)
-    n = U.shape[0]
+    return ia, ja, np.ascontiguousarray(U.data)
+
+
+def _pardiso_iparm(spd: bool) -> np.ndarray:
+    """PARDISO's ``iparm`` (64,) int32 for a positive definite or an indefinite matrix."""
+    iparm = np.zeros(64, dtype=np.int32)
     iparm[0] = 1  # user-set parameters below, defaults elsewhere
     # METIS nested dissection.  Minimum degree (iparm[1] = 0) analyses faster but fills
     # more; measured (CPU s, analysis + numeric): 66k-DOF Tet4 link 0.89 vs 0.91 METIS,
@@ -249,6 +283,17 @@ def _pardiso(A: sp.csr_matrix, spd: bool):
     iparm[10] = 0 if spd else 1  # scaling only for indefinite
     iparm[12] = 0 if spd else 1  # matching only for indefinite
     iparm[34] = 0  # 1-based indices
+    return iparm
+
+
+def _pardiso_caller(pardiso, mtype: int, spd: bool, n: int, arrays: tuple):
+    """``call(phase, b)``: one PARDISO call on the factor held by ``arrays``.
+
+    ``arrays`` is ``(pt, iparm, perm, data, ia, ja)``; ``b`` is None for phases without
+    a right-hand side.  Returns the solution (C-contiguous), or raises
+    :class:`SingularMatrixError` / :class:`FlexarmError` on PARDISO's error codes.
+    """
+    pt, iparm, perm, data, ia, ja = arrays
 
     def call(phase: int, b: np.ndarray | None):
         nrhs = 1 if b is None or b.ndim == 1 else b.shape[1]
@@ -284,21 +329,4 @@ def _pardiso(A: sp.csr_matrix, spd: bool):
             raise FlexarmError(f"PARDISO failed with error code {err.value}")
         return np.ascontiguousarray(x)
 
-    call(12, None)  # analysis + numerical factorisation
-    if spd and iparm[29] > 0:  # number of zero or negative pivots
-        raise SingularMatrixError("matrix is not positive definite: is the part fully supported?")
-
-    def solve(b: np.ndarray) -> np.ndarray:
-        return call(33, b)
-
-    # Keep the handle alive as long as the solve closure lives; release MKL memory after.
-    import weakref
-
-    def release(arrays=(pt, iparm, perm, data, ia, ja)):  # keep them alive until then
-        try:
-            call(-1, None)
-        except Exception:  # noqa: BLE001 - best effort at interpreter shutdown
-            pass
-
-    weakref.finalize(solve, release)
-    return solve
+    return call
