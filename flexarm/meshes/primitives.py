@@ -76,6 +76,70 @@ def _manifold_to_trimesh(solid) -> trimesh.Trimesh:
     return trimesh.Trimesh(vertices, faces, process=False)
 
 
+def _check_link(
+    width: float,
+    height: float,
+    wall: float,
+    hub_radius: float,
+    bore_radius: float,
+    hand_hole_radius: float,
+) -> None:
+    """Raise ValueError unless the walls, webs and hand hole of a hollow link fit [m]."""
+    if not (bore_radius + wall < hub_radius and 2 * wall < min(width, height)):
+        raise ValueError(
+            "need bore_radius + wall < hub_radius and 2*wall < min(width, height), got "
+            f"bore_radius={bore_radius}, wall={wall}, hub_radius={hub_radius}, "
+            f"width={width}, height={height}"
+        )
+    if hand_hole_radius >= width / 2 - wall:
+        raise ValueError(
+            f"hand_hole_radius={hand_hole_radius} must be < width/2 - wall = {width / 2 - wall}"
+        )
+
+
+def _hub(radius: float, w: float, x: float, segments: int):
+    """Manifold cylinder of ``radius`` and y-width ``w`` [m], axis along y through (x, 0, 0)."""
+    from manifold3d import Manifold
+
+    # Manifold's cylinders stand on z: centre it, turn its axis onto y, then move it to x.
+    return (
+        Manifold.cylinder(w, radius, -1.0, int(segments), True)
+        .rotate((90.0, 0.0, 0.0))
+        .translate((x, 0.0, 0.0))
+    )
+
+
+def _link_solid(
+    length: float,
+    width: float,
+    height: float,
+    wall: float,
+    hub_radius: float,
+    hub_width: float,
+    bore_radius: float,
+    hand_hole_radius: float,
+    segments: int,
+):
+    """The Manifold solid of :func:`hollow_link_surface` (same parameters, [m])."""
+    from manifold3d import Manifold
+
+    arm = Manifold.cube((length, width, height), True).translate((length / 2, 0.0, 0.0))
+    outer = (arm + _hub(hub_radius, hub_width, 0.0, segments)
+             + _hub(hub_radius, hub_width, length, segments))
+    x0, x1 = bore_radius + wall, length - bore_radius - wall
+    cavity = Manifold.cube((x1 - x0, width - 2 * wall, height - 2 * wall), True).translate(
+        ((x0 + x1) / 2, 0.0, 0.0)
+    )
+    # the bores are longer than the hubs so the boolean cuts cleanly through both faces
+    bores = (_hub(bore_radius, 1.5 * hub_width, 0.0, segments)
+             + _hub(bore_radius, 1.5 * hub_width, length, segments))
+    solid = outer - cavity - bores
+    if hand_hole_radius > 0:
+        hole = Manifold.cylinder(height, hand_hole_radius, -1.0, int(segments), False)
+        solid = solid - hole.translate((length / 2, 0.0, 0.0))
+    return solid
+
+
 def hollow_link_surface(
     length: float = 0.8,
     width: float = 0.18,
@@ -125,38 +189,9 @@ def hollow_link_surface(
     >>> [round(float(x), 3) for x in link.extents]
     [1.02, 0.2, 0.22]
     """
-    from manifold3d import Manifold
-
-    if not (bore_radius + wall < hub_radius and 2 * wall < min(width, height)):
-        raise ValueError(
-            "need bore_radius + wall < hub_radius and 2*wall < min(width, height), got "
-            f"bore_radius={bore_radius}, wall={wall}, hub_radius={hub_radius}, "
-            f"width={width}, height={height}"
-        )
-    if hand_hole_radius >= width / 2 - wall:
-        raise ValueError(
-            f"hand_hole_radius={hand_hole_radius} must be < width/2 - wall = {width / 2 - wall}"
-        )
-
-    def hub(radius: float, w: float, x: float):
-        # cylinder along z, centred, turned so its axis is y, then moved to x
-        return (
-            Manifold.cylinder(w, radius, -1.0, int(segments), True)
-            .rotate((90.0, 0.0, 0.0))
-            .translate((x, 0.0, 0.0))
-        )
-
-    arm = Manifold.cube((length, width, height), True).translate((length / 2, 0.0, 0.0))
-    outer = arm + hub(hub_radius, hub_width, 0.0) + hub(hub_radius, hub_width, length)
-    x0, x1 = bore_radius + wall, length - bore_radius - wall
-    cavity = Manifold.cube((x1 - x0, width - 2 * wall, height - 2 * wall), True).translate(
-        ((x0 + x1) / 2, 0.0, 0.0)
-    )
-    bores = hub(bore_radius, 1.5 * hub_width, 0.0) + hub(bore_radius, 1.5 * hub_width, length)
-    solid = outer - cavity - bores
-    if hand_hole_radius > 0:
-        hole = Manifold.cylinder(height, hand_hole_radius, -1.0, int(segments), False)
-        solid = solid - hole.translate((length / 2, 0.0, 0.0))
+    _check_link(width, height, wall, hub_radius, bore_radius, hand_hole_radius)
+    solid = _link_solid(length, width, height, wall, hub_radius, hub_width, bore_radius,
+                        hand_hole_radius, segments)
     surface = _manifold_to_trimesh(solid)
     logger.debug("hollow link: %d faces, %.4g m^3", len(surface.faces), surface.volume)
     return surface

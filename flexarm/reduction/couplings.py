@@ -164,6 +164,99 @@ def rbe3_weights_matrix(points: FloatArray, weights: FloatArray, ref: FloatArray
     return np.linalg.solve(G, Rw.reshape(-1, 6).T)
 
 
+def _node_masters(mesh: TetMesh, itf: Interface, n_masters: int | None) -> IntArray:
+    """(k,) FE nodes of one region kept as 3-DOF masters, in region order.
+
+    ``n_masters`` nodes spread by farthest-point sampling, or all region nodes (None).
+    """
+    pts = mesh.points[itf.nodes]
+    pick = np.arange(len(pts)) if n_masters is None else farthest_points(pts, n_masters)
+    check_spread(itf.name, pts[pick], "master nodes")
+    return itf.nodes[np.sort(pick)]
+
+
+def _rbe2_rows(mesh: TetMesh, itf: Interface, mcols: IntArray) -> tuple[IntArray, list]:
+    """Rigid spider of one interface: (eliminated FE DOFs, their row blocks).
+
+    Each block is ``(rows, cols_fe, cols_master, values)`` with ``-1`` where the column
+    is not of that kind; ``mcols`` (6,) are the master's columns in the boundary block.
+    """
+    pts = mesh.points[itf.nodes]
+    dofs = (3 * itf.nodes[:, None] + np.arange(3)).ravel()
+    R = rigid_transport(pts - itf.position).reshape(-1, 6)
+    block = (np.repeat(dofs, 6), np.full(R.size, -1), np.tile(mcols, len(dofs)), R.ravel())
+    return dofs, [block]
+
+
+def _rbe3_rows(mesh: TetMesh, itf: Interface, areas: FloatArray,
+               mcols: IntArray) -> tuple[IntArray, list]:
+    """Weighted-average master of one interface: (dependent FE DOFs, their row blocks).
+
+    Blocks as in :func:`_rbe2_rows`; ``areas`` (n_nodes,) [m^2] are the tributary areas
+    weighting the slaves.
+    """
+    pts = mesh.points[itf.nodes]
+    w = areas[itf.nodes]
+    if not w.sum() > 0:  # a node set off the surface: no area, plain average
+        w = np.ones_like(w)
+    live = w > 0
+    check_spread(itf.name, pts[live], "nodes with surface area")
+    W = rbe3_weights_matrix(pts[live], w[live], itf.position)
+    live_dofs = (3 * itf.nodes[live][:, None] + np.arange(3)).ravel()
+    # Pivoted QR picks the six slave DOFs W depends on most, so W_d is well conditioned.
+    piv = sla.qr(W, pivoting=True, mode="r")[1]
+    dep, oth = np.sort(piv[:6]), np.sort(piv[6:])
+    Wd_inv = np.linalg.inv(W[:, dep])
+    A_m = Wd_inv  # (6 dep, 6 master)
+    A_o = -Wd_inv @ W[:, oth]  # (6 dep, n_other)
+    rows = live_dofs[dep]
+    return rows, [
+        (np.repeat(rows, 6), np.full(36, -1), np.tile(mcols, 6), A_m.ravel()),
+        (np.repeat(rows, len(oth)), np.tile(live_dofs[oth], 6), np.full(A_o.size, -1),
+         A_o.ravel()),
+    ]
+
+
+def _transformation(n_full: int, elim_all: IntArray, bnd_fe: IntArray, blocks: list,
+                    n_b: int) -> sp.csr_matrix:
+    """``T`` (n_full, n_interior + n_b): identity on the kept FE DOFs, then the blocks.
+
+    Parameters
+    ----------
+    n_full : int
+        FE DOFs.
+    elim_all : (m,) int
+        FE DOFs that are not interior (eliminated slaves, or kept node masters).
+    bnd_fe : (k,) int
+        FE DOFs that are themselves boundary DOFs (``nodes`` coupling; else empty).
+    blocks : list of (rows, cols_fe, cols_master, values)
+        Rows of eliminated DOFs; a column is an FE DOF (``cols_fe >= 0``) or a master
+        DOF (``cols_master``, counted from the start of the boundary block).
+    n_b : int
+        Boundary (master) DOFs.
+    """
+    keep = np.ones(n_full, dtype=bool)
+    keep[elim_all] = False
+    interior = np.flatnonzero(keep)
+    n_int = interior.size
+    col_of = np.full(n_full, -1, dtype=np.int64)
+    col_of[interior] = np.arange(n_int)
+    col_of[bnd_fe] = n_int + np.arange(bnd_fe.size)
+    rows = [interior, bnd_fe]
+    cols = [np.arange(n_int), n_int + np.arange(bnd_fe.size)]
+    vals = [np.ones(n_int), np.ones(bnd_fe.size)]
+    for r, cf, cm, v in blocks:
+        c = np.where(cf >= 0, col_of[np.maximum(cf, 0)], n_int + cm)
+        rows.append(r), cols.append(c), vals.append(v)
+    T = sp.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+        shape=(n_full, n_int + n_b),
+    )
+    T.sum_duplicates()
+    T.sort_indices()
+    return T
+
+
 def couple(mesh: TetMesh, ifaces: tuple[Interface, ...], kind: str = "rbe2",
            n_masters: int | None = None) -> Coupling:
     """The coupling transformation of all interfaces.
@@ -188,7 +281,6 @@ def couple(mesh: TetMesh, ifaces: tuple[Interface, ...], kind: str = "rbe2",
     """
     if kind not in COUPLINGS:
         raise ValueError(f"coupling must be one of {', '.join(COUPLINGS)}, got '{kind}'")
-    n_full = mesh.n_dofs
     dpn = 3 if kind == "nodes" else 6
     areas = tributary_areas(mesh) if kind == "rbe3" else None
     # Per interface: eliminated FE DOFs, their rows over (FE-DOF or master) columns.
@@ -197,11 +289,8 @@ def couple(mesh: TetMesh, ifaces: tuple[Interface, ...], kind: str = "rbe2",
     positions, owners, masters = [], [], []
     n_b_nodes = 0
     for i, itf in enumerate(ifaces):
-        pts = mesh.points[itf.nodes]
         if kind == "nodes":
-            pick = np.arange(len(pts)) if n_masters is None else farthest_points(pts, n_masters)
-            check_spread(itf.name, pts[pick], "master nodes")
-            nodes = itf.nodes[np.sort(pick)]
+            nodes = _node_masters(mesh, itf, n_masters)
             positions.append(mesh.points[nodes])
             owners.append(np.full(len(nodes), i))
             masters.append(nodes)
@@ -212,55 +301,19 @@ def couple(mesh: TetMesh, ifaces: tuple[Interface, ...], kind: str = "rbe2",
         masters.append(np.array([-1]))
         mcols = 6 * n_b_nodes + np.arange(6)
         n_b_nodes += 1
-        dofs = (3 * itf.nodes[:, None] + np.arange(3)).ravel()
         if kind == "rbe2":
-            R = rigid_transport(pts - itf.position).reshape(-1, 6)
-            elim.append(dofs)
-            blocks.append((np.repeat(dofs, 6), np.full(R.size, -1), np.tile(mcols, len(dofs)),
-                           R.ravel()))
-            continue
-        w = areas[itf.nodes]
-        if not w.sum() > 0:  # a node set off the surface: no area, plain average
-            w = np.ones_like(w)
-        live = w > 0
-        check_spread(itf.name, pts[live], "nodes with surface area")
-        W = rbe3_weights_matrix(pts[live], w[live], itf.position)
-        live_dofs = (3 * itf.nodes[live][:, None] + np.arange(3)).ravel()
-        piv = sla.qr(W, pivoting=True, mode="r")[1]
-        dep, oth = np.sort(piv[:6]), np.sort(piv[6:])
-        Wd_inv = np.linalg.inv(W[:, dep])
-        A_m = Wd_inv  # (6 dep, 6 master)
-        A_o = -Wd_inv @ W[:, oth]  # (6 dep, n_other)
-        rows = live_dofs[dep]
-        elim.append(rows)
-        blocks.append((np.repeat(rows, 6), np.full(36, -1), np.tile(mcols, 6), A_m.ravel()))
-        blocks.append((np.repeat(rows, len(oth)), np.tile(live_dofs[oth], 6),
-                       np.full(A_o.size, -1), A_o.ravel()))
+            dofs, rows = _rbe2_rows(mesh, itf, mcols)
+        else:
+            dofs, rows = _rbe3_rows(mesh, itf, areas, mcols)
+        elim.append(dofs)
+        blocks += rows
     if kind == "nodes":
         bnd_fe = (3 * np.concatenate(masters)[:, None] + np.arange(3)).ravel()
         elim_all = bnd_fe
     else:
         bnd_fe = np.zeros(0, dtype=np.int64)
         elim_all = np.concatenate(elim)
-    keep = np.ones(n_full, dtype=bool)
-    keep[elim_all] = False
-    interior = np.flatnonzero(keep)
-    n_int = interior.size
-    col_of = np.full(n_full, -1, dtype=np.int64)
-    col_of[interior] = np.arange(n_int)
-    col_of[bnd_fe] = n_int + np.arange(bnd_fe.size)
-    rows = [interior, bnd_fe]
-    cols = [np.arange(n_int), n_int + np.arange(bnd_fe.size)]
-    vals = [np.ones(n_int), np.ones(bnd_fe.size)]
-    for r, cf, cm, v in blocks:
-        c = np.where(cf >= 0, col_of[np.maximum(cf, 0)], n_int + cm)
-        rows.append(r), cols.append(c), vals.append(v)
     n_b = dpn * n_b_nodes
-    T = sp.csr_matrix(
-        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-        shape=(n_full, n_int + n_b),
-    )
-    T.sum_duplicates()
-    T.sort_indices()
+    T = _transformation(mesh.n_dofs, elim_all, bnd_fe, blocks, n_b)
     return Coupling(T, n_b, kind, dpn, np.concatenate(positions), np.concatenate(owners),
                     np.concatenate(masters))
