@@ -63,8 +63,8 @@ def link_mesh(allow_meshing: bool, size: float = LINK_SIZE):
     """
     try:
         from flexarm.meshes import load_surface, tetrahedralize
-        from flexarm.meshes.demo_arm import demo_robot_path
         from flexarm.meshes.tet_cache import load_cached, tet_cache_key
+        from flexarm.robot.demo_arm import demo_robot_path
     except ImportError:
         return None
     stl = Path(demo_robot_path()).parent / "meshes" / LINK_PART

@@ -15,9 +15,9 @@ from __future__ import annotations
 import time
 
 from flexarm.assembly.emodel import emodel
-from flexarm.meshes.demo_arm import load_demo_robot
+from flexarm.robot.demo_arm import load_demo_robot
+from flexarm.robot.effects import parse_effect
 from flexarm.validation.diagnose import diagnose
-from flexarm.validation.effects import parse_effect
 from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab
 from flexarm.validation.modal import virtual_modal
 

@@ -20,7 +20,7 @@ import numpy as np
 from flexarm.assembly.analyses import natural_frequencies, tcp_compliance
 from flexarm.assembly.emodel import emodel
 from flexarm.assembly.maps import grid_poses
-from flexarm.meshes.demo_arm import load_demo_robot
+from flexarm.robot.demo_arm import load_demo_robot
 
 
 def main() -> None:

@@ -25,7 +25,7 @@ from flexarm.reduction.craig_bampton import craig_bampton_basis
 from flexarm.reduction.guyan import constraint_modes, split_blocks
 from flexarm.reduction.projection import project
 from flexarm.reduction.reduce import coupled_model
-from flexarm.reduction.study import bar_link
+from flexarm.studies.part_study import bar_link
 
 
 def _rss_mb() -> float:

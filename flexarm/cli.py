@@ -213,7 +213,7 @@ def _add_demo(p: argparse.ArgumentParser) -> None:
 @command("demo", "the main job on the built-in robot: tables and pictures in flexarm-demo/",
          _add_demo)
 def _run_demo(args) -> int:
-    from .demo import run_demo
+    from .studies.demo import run_demo
 
     report = run_demo(args.output, progress=lambda s: print(s, file=sys.stderr),  # noqa: T201
                       part=args.part, jobs=args.jobs)
@@ -236,15 +236,15 @@ def _add_arm_common(p: argparse.ArgumentParser, pose: bool = True) -> None:
 
 def _arm_from_args(args):
     from .assembly.emodel import emodel
-    from .assembly.formats import read
-    from .meshes.demo_arm import load_demo_robot
+    from .robot.demo_arm import load_demo_robot
+    from .robot.formats import read
 
     robot = load_demo_robot() if args.robot is None else read(args.robot)
     return robot, emodel(robot, method=args.mass, mesh_size=robot.options.mesh_size)
 
 
 def _pose_from_args(robot, args):
-    from .assembly.robot import pose_from_string
+    from .robot.description import pose_from_string
 
     return pose_from_string(robot, args.pose)
 
@@ -266,7 +266,7 @@ def _run_modes(args) -> int:
         shares = " ".join(f"{e:7.3f}" for e in md.energy[:, r])
         _print(f"{r + 1:4d} {f:10.3f} {md.damping[r]:7.4f}  {shares}")
     if args.output:
-        from .assembly.plots import plot_mode_energy
+        from .studies.plots import plot_mode_energy
 
         p = plot_mode_energy(os.path.join(args.output, "mode_energy.png"), md.freq_hz,
                              md.energy, names)
@@ -329,7 +329,7 @@ def _run_frf(args) -> int:
         _print(f"{name:>9s}  {H[0, d, d].real * 1e6:21.4f}  {f[k]:7.2f}  "
                f"{abs(H[1 + k, d, d]) * 1e6:14.4f}")
     if args.output:
-        from .assembly.plots import plot_frf
+        from .studies.plots import plot_frf
 
         p = plot_frf(os.path.join(args.output, "frf_bode.png"), f, H[1:],
                      f"TCP receptance at {args.pose}")
@@ -381,8 +381,8 @@ def _add_import_urdf(p: argparse.ArgumentParser) -> None:
          _add_import_urdf)
 def _run_import_urdf(args) -> int:
     from .assembly.emodel import total_mass, with_total_mass
-    from .assembly.formats import toml as robot_toml
-    from .assembly.formats import urdf
+    from .robot.formats import toml as robot_toml
+    from .robot.formats import urdf
 
     robot = urdf.read(args.urdf, meshes=args.meshes)
     solid = total_mass(robot, "surface")
@@ -517,7 +517,7 @@ def _add_study_part(p: argparse.ArgumentParser) -> None:
 def _run_study_part(args) -> int:
     from .fe import material_from_string
     from .reduction import parse_cylinder
-    from .reduction.study import bar_link, plot_study, study_part, write_csv
+    from .studies.part_study import bar_link, plot_study, study_part, write_csv
 
     material = material_from_string(args.material)
     try:
@@ -582,17 +582,14 @@ def _add_circle(p: argparse.ArgumentParser) -> None:
 
 def _circle_robot(args):
     """Robot and its effects: TOML [nonlinear] table plus ``--effect`` options."""
-    from .assembly.formats import read
-    from .meshes.demo_arm import load_demo_robot
-    from .validation.effects import parse_effect
-    from .validation.history import read_robot_effects
-
+    from .robot.demo_arm import load_demo_robot
+    from .robot.effects import parse_effect
+    from .robot.formats import read
     if args.robot is None:
         robot, effects = load_demo_robot(), []
-    elif str(args.robot).lower().endswith(".toml"):
-        robot, effects = read_robot_effects(args.robot)
     else:
-        robot, effects = read(args.robot), []
+        robot = read(args.robot)
+        effects = list(robot.effects)
     return robot, effects + [parse_effect(e, robot.chain.n_joints) for e in args.effect]
 
 
@@ -601,12 +598,12 @@ def _circle_robot(args):
 def _run_circle(args) -> int:
     from importlib.resources import files
 
-    from .assembly.contact import measured_deviation, predict_circle, rapid_circle
-    from .assembly.contact.circle_data import static_circle_readings, write_circle_csv
-    from .assembly.contact.circle_models import circle_arm, nonlinear_solver
-    from .assembly.contact.plots import plot_circle_polar, plot_circle_top, plot_circle_z
-    from .assembly.formats.rapid import read_rapid
-    from .validation.effects import apply_effects
+    from .assembly.effects import apply_effects
+    from .robot.formats.rapid import read_rapid
+    from .studies.contact import measured_deviation, predict_circle, rapid_circle
+    from .studies.contact.circle_data import static_circle_readings, write_circle_csv
+    from .studies.contact.circle_models import circle_arm, nonlinear_solver
+    from .studies.contact.plots import plot_circle_polar, plot_circle_top, plot_circle_z
 
     robot, effects = _circle_robot(args)
     mod = read_rapid(args.rapid or files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod")
@@ -680,10 +677,10 @@ def _add_chatter(p: argparse.ArgumentParser) -> None:
 @command("chatter", "mode-coupling chatter at a pose (2-DOF, closed form + simulation) vs a CNC",
          _add_chatter)
 def _run_chatter(args) -> int:
-    from .assembly.contact import analyse, cnc_model, critical_kcb, plane_model, simulate
-    from .assembly.contact.chatter import process_vectors
-    from .assembly.contact.chatter_map import worst_normal
-    from .assembly.contact.plots import plot_chatter_orbit, plot_chatter_time
+    from .studies.contact import analyse, cnc_model, critical_kcb, plane_model, simulate
+    from .studies.contact.chatter import process_vectors
+    from .studies.contact.chatter_map import worst_normal
+    from .studies.contact.plots import plot_chatter_orbit, plot_chatter_time
 
     robot, arm = _arm_from_args(args)
     q = _pose_from_args(robot, args)
@@ -728,8 +725,8 @@ def _add_chatter_map(p: argparse.ArgumentParser) -> None:
 @command("chatter-map", "limit K_c*b (mode coupling) over joints 2 and 3 (CSV, PNG)",
          _add_chatter_map)
 def _run_chatter_map(args) -> int:
-    from .assembly.contact import chatter_map, recommendation
-    from .assembly.contact.plots import plot_chatter_map
+    from .studies.contact import chatter_map, recommendation
+    from .studies.contact.plots import plot_chatter_map
 
     robot, arm = _arm_from_args(args)
     q = _pose_from_args(robot, args)
@@ -756,13 +753,14 @@ def _run_chatter_map(args) -> int:
 def _validation_arm(args):
     """Robot (with its optional [nonlinear] table) and its E-model."""
     from .assembly.emodel import emodel
-    from .meshes.demo_arm import load_demo_robot
-    from .validation.history import read_robot_effects
+    from .robot.demo_arm import load_demo_robot
+    from .robot.formats import read
 
     if args.robot is None:
         robot, effects = load_demo_robot(), []
     else:
-        robot, effects = read_robot_effects(args.robot)
+        robot = read(args.robot)
+        effects = list(robot.effects)
     return robot, emodel(robot, method=args.mass, mesh_size=robot.options.mesh_size), effects
 
 
@@ -791,7 +789,7 @@ def _flexible_models(args, robot, arm):
 
 def _with_links(effects, flexible) -> list:
     """Effects plus the flexible model's links (``links:c=1``) when one was built."""
-    from .validation.effects import Effect
+    from .robot.effects import Effect
 
     if flexible is None or any(e.kind == "links" for e in effects):
         return list(effects)
@@ -829,8 +827,8 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
 @command("lab", "virtual lab: static series from the model + hidden effects + tracker noise",
          _add_lab)
 def _run_lab(args) -> int:
+    from .robot.effects import parse_effect
     from .validation import write_modal
-    from .validation.effects import parse_effect
     from .validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab, write_lab
     from .validation.modal import virtual_modal
 
@@ -939,9 +937,10 @@ def _add_diagnose(p: argparse.ArgumentParser) -> None:
 @command("diagnose", "find which physical effect the model misses in static measurements",
          _add_diagnose)
 def _run_diagnose(args) -> int:
+    from .robot.formats import write as write_robot
     from .validation import read_measurements
     from .validation.diagnose import diagnose
-    from .validation.history import robot_with_effects, write_history, write_robot
+    from .validation.history import robot_with_effects, write_history
 
     if args.apply and not args.output:
         raise ValueError("--apply needs -o NEW_ROBOT.toml")
@@ -978,15 +977,15 @@ def _run_diagnose(args) -> int:
         for p in write_history(args.report, dg):
             _print(f"wrote {p}")
     if args.apply:
-        new, nonlinear = robot_with_effects(robot, arm, dg.final_effects)
-        _print(f"wrote {write_robot(args.output, new, nonlinear)}")
+        write_robot(args.output, robot_with_effects(robot, arm, dg.final_effects))
+        _print(f"wrote {args.output}")
     return 0
 
 
 # --- flexible arm (issue 5): build | compare-models ------------------------------------
 def _robot_arg(args):
-    from .assembly.formats import read
-    from .meshes.demo_arm import load_demo_robot
+    from .robot.demo_arm import load_demo_robot
+    from .robot.formats import read
 
     return load_demo_robot() if args.robot is None else read(args.robot)
 
@@ -1029,7 +1028,7 @@ def _add_compare_models(p: argparse.ArgumentParser) -> None:
 @command("compare-models", "E-model vs Guyan vs CB vs CB+wrist vs full FE at poses (CSV, PNG)",
          _add_compare_models)
 def _run_compare_models(args) -> int:
-    from .assembly.compare import compare_models
+    from .studies.compare_models import compare_models
 
     robot = _robot_arg(args)
     rep = compare_models(robot, [s for s in args.poses.split(",") if s.strip()], args.modes,
@@ -1063,7 +1062,7 @@ def _add_study(p: argparse.ArgumentParser) -> None:
 @command("study", "accuracy of the whole arm vs node count, CB modes and interface "
          "representation against full FE (CSV, PNGs, verdict)", _add_study)
 def _run_study(args) -> int:
-    from .assembly.study import PRESETS, run_study
+    from .studies.arm_study import PRESETS, run_study
 
     robot = _robot_arg(args)
     pre = PRESETS[args.preset or "full"]
@@ -1107,8 +1106,8 @@ def _add_show_arm(p: argparse.ArgumentParser) -> None:
 @command("show-arm", "picture of the assembled arm deformed by a mode at a pose (PNG, GIF)",
          _add_show_arm)
 def _run_show_arm(args) -> int:
-    from .assembly.render_arm import arm_model, render_arm_mode
-    from .assembly.robot import pose_from_string
+    from .robot.description import pose_from_string
+    from .studies.render_arm import arm_model, render_arm_mode
 
     if args.output is None and not args.interactive:
         args.output = f"arm_mode{args.mode}.png"

@@ -113,7 +113,7 @@ def box_arm_robot(folder):
     """Write the box arm (STL + TOML) into ``folder`` and return its Robot."""
     import trimesh
 
-    from flexarm.assembly.formats.toml import read
+    from flexarm.robot.formats.toml import read
 
     for name, (size, lo, _) in BOXES.items():
         box = trimesh.creation.box(extents=size)

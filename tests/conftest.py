@@ -130,3 +130,55 @@ def rigid_body_vectors(points: np.ndarray, center=(0.0, 0.0, 0.0)) -> np.ndarray
 def make_rigid_body_vectors():
     """The factory :func:`rigid_body_vectors`."""
     return rigid_body_vectors
+
+
+# ----------------------------------------------------------------- robots
+@pytest.fixture(scope="session")
+def demo_robot():
+    from flexarm.robot.demo_arm import load_demo_robot
+
+    return load_demo_robot()
+
+
+@pytest.fixture(scope="session")
+def demo_emodel(demo_robot):
+    """E-model of the demo arm with mass properties of its tetrahedral meshes."""
+    from flexarm.assembly.emodel import emodel
+
+    return emodel(demo_robot, method="tets")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Skip ``slow`` tests unless selected with ``-m slow`` (a bare ``pytest`` stays fast)."""
+    if "slow" in (config.getoption("-m") or ""):
+        return
+    skip = pytest.mark.skip(reason="slow: run with -m slow")
+    for item in items:
+        if "slow" in item.keywords:
+            item.add_marker(skip)
+
+
+@pytest.fixture(scope="session")
+def box_robot(tmp_path_factory):
+    """The three-link box arm of ``box_arm.py`` (STL + TOML in a temporary folder)."""
+    from .box_arm import box_arm_robot
+
+    return box_arm_robot(tmp_path_factory.mktemp("box_arm"))
+
+
+@pytest.fixture(scope="session")
+def flex_arm(demo_robot):
+    """CB(10) flexible demo arm on a coarse 60 mm mesh (cached build)."""
+    from flexarm.studies.contact.circle_models import circle_arm
+
+    return circle_arm(demo_robot, "cb", mesh_size=0.06, n_modes=10)
+
+
+@pytest.fixture(scope="session")
+def module():
+    """The thesis's appendix-B RAPID module (loaded circle test)."""
+    from importlib.resources import files
+
+    from flexarm.robot.formats.rapid import read_rapid
+
+    return read_rapid(files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod")

@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fe.tolerances import tol
 from ..fe.typing import ArrayLike, FloatArray
 from .batched import constant_stiffness, fast_tcp_compliance, has_constant_stiffness, mass_matrix
 from .system import ArmModel, rotation_blocks, system_matrices
+from .tolerances import tol
 
 __all__ = [
     "Modes",

@@ -26,9 +26,9 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..fe.typing import ArrayLike, FloatArray
+from ..robot.joints import joint_basis
+from ..robot.kinematics import link_frames
 from .bodies import rigid_transport
-from .joints import joint_basis
-from .kinematics import link_frames
 from .system import ArmModel, _joint_tcp_columns, rotation_blocks
 
 __all__ = [

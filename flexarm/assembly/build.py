@@ -32,7 +32,7 @@ from ..fe.material import Material
 from ..fe.mesh import TetMesh
 from ..reduction import CylinderRegion, Superelement, reduce_with_stats
 from ..reduction.formats import h5
-from .robot import Link, Robot
+from ..robot.description import Link, Robot
 
 __all__ = ["BUILD_VERSION", "BuildOptions", "LinkBuild", "link_regions", "link_mesh",
            "link_material", "build_link", "build_robot", "Mesher"]

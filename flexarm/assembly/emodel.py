@@ -15,8 +15,9 @@ import numpy as np
 
 from ..fe.files import atomic_path, cache_dir, digest
 from ..fe.mass_properties import MassProperties, mass_properties
+from ..fe.units import LENGTH_UNITS
+from ..robot.description import Link, Robot
 from .bodies import combine_mass_properties, point_mass_properties, rigid_body
-from .robot import UNITS, Link, Robot
 from .system import ArmModel
 
 __all__ = ["link_mass_properties", "emodel", "total_mass", "with_total_mass"]
@@ -49,7 +50,7 @@ def _mesh_mass_properties(link: Link, method: str, mesh_size: float,
         import trimesh
 
         surface = trimesh.load(link.mesh, force="mesh")
-        surface.apply_scale(UNITS[link.units])
+        surface.apply_scale(LENGTH_UNITS[link.units])
         tm = surface.mass_properties
         mp = MassProperties(rho * float(tm.volume), np.asarray(tm.center_mass),
                             rho * np.asarray(tm.inertia))
@@ -138,7 +139,7 @@ def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04,
 
     Examples
     --------
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> arm = emodel(load_demo_robot(), method="surface")
     >>> arm.layout["n"]  # 6 torsion + 3 x 2 bearing tilts
     12

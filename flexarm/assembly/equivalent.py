@@ -9,7 +9,7 @@ compliance of the links it carries, about its two tilt axes,
     ``1 / k_eq,k = 1 / k_bearing + t_k^T (sum_b R_b C_rr,b R_b^T) t_k``,   k = 1, 2,
 
 where ``t_k`` are the tilt axes (joint frame, columns 2 and 3 of
-:func:`~flexarm.assembly.joints.joint_basis`) and the sum runs over the *segment* of
+:func:`~flexarm.robot.joints.joint_basis`) and the sum runs over the *segment* of
 the joint: the bodies on the path to the TCP from the joint's child up to (not
 including) the child of the next joint with finite tilt.  ``C_rr,b`` is body ``b``'s
 Guyan static rotational compliance [rad/(N m)] at its exit point (the next joint on the
@@ -21,7 +21,7 @@ lever (conservative).  Joints with rigid bearings keep their model.
 
 :func:`equivalent_joint_models` needs the superelements (a build); the demo arm stores
 the result once in its robot file as ``[joints.emodel]`` (see
-:mod:`flexarm.meshes.demo_arm`), so the E-model itself stays free of FE work.
+:mod:`flexarm.robot.demo_arm`), so the E-model itself stays free of FE work.
 """
 
 from __future__ import annotations
@@ -31,8 +31,8 @@ import dataclasses
 import numpy as np
 
 from ..fe.typing import FloatArray
-from .joints import JointModel, joint_basis
-from .kinematics import link_frames
+from ..robot.joints import JointModel, joint_basis
+from ..robot.kinematics import link_frames
 from .system import ArmModel
 
 __all__ = ["link_rotational_compliance", "joint_segments", "equivalent_joint_models"]

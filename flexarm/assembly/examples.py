@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..fe.mass_properties import MassProperties
+from ..robot.joints import JointModel
+from ..robot.kinematics import Chain
 from .bodies import rigid_body
-from .joints import JointModel
-from .kinematics import Chain
 from .system import ArmModel
 
 __all__ = ["two_link_arm"]

@@ -32,10 +32,10 @@ import numpy as np
 from ..fe.mass_properties import MassProperties, rigid_body_mass_matrix
 from ..fe.typing import ArrayLike, FloatArray
 from ..reduction import Superelement
+from ..robot.description import Robot
 from .bodies import Body, point_mass_properties, rigid_body, rigid_transport
 from .build import BuildOptions, LinkBuild, Mesher, build_robot
 from .emodel import link_mass_properties
-from .robot import Robot
 from .system import ArmModel
 
 __all__ = ["superelement_body", "body_coordinates", "flexible_bodies", "flexible_arm",

@@ -29,12 +29,12 @@ from ..fe.mass_properties import rigid_body_mass_matrix
 from ..fe.solvers import factorize
 from ..fe.typing import ArrayLike, FloatArray
 from ..reduction import coupled_model
+from ..robot.description import Robot
+from ..robot.joints import joint_basis
+from ..robot.kinematics import link_frames
 from .bodies import point_mass_properties, rigid_transport
 from .build import BuildOptions, Mesher, cylinder_regions, link_material, link_mesh, link_regions
 from .emodel import link_mass_properties
-from .joints import joint_basis
-from .kinematics import link_frames
-from .robot import Robot
 from .system import ArmModel, rotation_blocks
 
 __all__ = ["SparseBody", "FullFEModel", "full_fe_bodies", "sparse_bodies", "full_fe_matrices",

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from ..assembly.system import ArmModel
-from .effects import Effect
+from ..robot.effects import Effect
+from .system import ArmModel
 
 __all__ = ["links_arm", "split_links"]
 

@@ -24,9 +24,9 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ..fe.typing import ArrayLike, FloatArray
+from ..robot.joints import joint_basis
+from ..robot.kinematics import jacobian, link_frames, tcp_frame
 from .analyses import GRAVITY, tcp_compliance
-from .joints import joint_basis
-from .kinematics import jacobian, link_frames, tcp_frame
 from .system import ArmModel
 
 __all__ = ["body_masses", "joint_moments", "joint_screws", "relative_deflection",

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..fe.typing import ArrayLike, FloatArray
+from ..robot.joints import DOF_NAMES, JointModel, joint_basis
+from ..robot.kinematics import Chain, link_frames
 from .bodies import Body, rigid_transport
-from .joints import DOF_NAMES, JointModel, joint_basis
-from .kinematics import Chain, link_frames
 
 __all__ = [
     "ArmModel",

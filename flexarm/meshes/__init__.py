@@ -8,14 +8,13 @@ from .pipeline import MESHERS, mesh_part, tetrahedralizer
 from .primitives import bar_surface, cylinder_surface, hollow_link_surface, write_surface
 from .quality import QualityReport, dihedral_angles, mesh_quality, radius_ratios
 from .repair import check_surface, repair_surface
-from .surface import UNITS, load_surface
+from .surface import load_surface
 from .tetwild import tetrahedralize
 from .volume_io import read_volume_mesh, write_volume_mesh
 
 __all__ = [
     "MESHERS",
     "QualityReport",
-    "UNITS",
     "bar_surface",
     "check_surface",
     "cylinder_surface",

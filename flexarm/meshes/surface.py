@@ -11,26 +11,16 @@ import trimesh
 from ..fe.errors import MeshError, ReadError
 from ..fe.tolerances import tol
 from ..fe.typing import PathType
+from ..fe.units import length_factor
 from .repair import check_surface, merge_digits, repair_surface
 
-__all__ = ["load_surface", "UNITS", "SURFACE_EXTENSIONS"]
+__all__ = ["load_surface", "SURFACE_EXTENSIONS"]
 
 logger = logging.getLogger(__name__)
 
-#: Length of one file unit in metres.
-UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
 #: Surface file types :func:`load_surface` reads.
 SURFACE_EXTENSIONS = (".stl", ".obj", ".ply")
 _SUPPORTED = "supported: " + ", ".join(SURFACE_EXTENSIONS)
-
-
-def _unit_scale(units: str) -> float:
-    try:
-        return UNITS[units]
-    except KeyError:
-        raise ValueError(
-            f"unknown units {units!r}; expected one of {', '.join(map(repr, UNITS))}"
-        ) from None
 
 
 def _signature_problem(path: Path, ext: str) -> str | None:
@@ -139,7 +129,7 @@ def load_surface(path: PathType, units: str = "m", repair: bool = True) -> trime
     >>> [float(x) for x in surface.extents], round(float(surface.volume), 12)
     ([0.02, 0.02, 0.02], 8e-06)
     """
-    scale = _unit_scale(units)
+    scale = length_factor(units)
     path = Path(path)
     name = str(path)
     if not path.is_file():

@@ -1,7 +1,7 @@
 """The robot description (DESIGN §5) as frozen dataclasses, with validation.
 
 Angles are radians and lengths metres inside; the TOML reader/writer
-(:mod:`flexarm.assembly.formats.toml`) converts degrees at the edge.  Validation
+(:mod:`flexarm.robot.formats.toml`) converts degrees at the edge.  Validation
 errors name the offending key and value.
 """
 
@@ -16,6 +16,7 @@ import numpy as np
 
 from ..fe.material import Material
 from ..fe.typing import FloatArray
+from ..fe.units import LENGTH_UNITS
 from .joints import JointModel
 from .kinematics import Chain, rpy_matrix
 
@@ -32,7 +33,6 @@ __all__ = [
 ]
 
 _UNIT_TOL = 1e-6  # |axis| must be 1 to this (a description error, not round-off)
-UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
 
 
 def _vec(value, n: int, key: str) -> FloatArray:
@@ -162,6 +162,8 @@ class Robot:
 
     Links are listed base first; joint ``j`` (in order) has child ``links[j + 1]``
     and a parent listed earlier.  ``poses`` maps names to joint angles [rad].
+    ``effects`` are the nonlinear joint laws (:class:`~flexarm.robot.effects.Effect` of
+    kind backlash, hardening or hysteresis); linear analyses ignore them.
     """
 
     name: str
@@ -174,6 +176,7 @@ class Robot:
     wrist_coupling: tuple | None = None
     wrist_stiffness: tuple | None = None
     source: Path | None = None
+    effects: tuple = ()
 
     def __post_init__(self) -> None:
         validate(self)
@@ -236,27 +239,40 @@ def validate(robot: Robot) -> None:
         raise ValueError(f"{len(robot.links)} links need {len(robot.links) - 1} joints, "
                          f"got {len(robot.joints)}")
     for lk in robot.links:
-        if lk.units not in UNITS:
-            raise ValueError(f"links.{lk.name}.units: unknown unit '{lk.units}' "
-                             f"(use {'|'.join(UNITS)})")
-        if lk.mesh is not None and not Path(lk.mesh).is_file():
-            raise ValueError(f"links.{lk.name}.mesh: file not found: '{lk.mesh}'")
-        for m in lk.lumped:
-            if not m.mass >= 0:
-                raise ValueError(f"links.{lk.name}.lumped.{m.name}.mass must be >= 0 kg, "
-                                 f"got {m.mass}")
-        for rname, reg in lk.regions.items():
-            key = f"links.{lk.name}.regions.{rname}"
-            if abs(np.linalg.norm(reg.axis) - 1) > _UNIT_TOL:
-                raise ValueError(f"{key}.axis must be a unit vector, got {list(reg.axis)}")
-            if not 0 <= reg.r_min <= reg.r_max or not reg.half_width > 0:
-                raise ValueError(f"{key}: need 0 <= r_min <= r_max and half_width > 0, got "
-                                 f"r_min={reg.r_min}, r_max={reg.r_max}, "
-                                 f"half_width={reg.half_width}")
-            if reg.coupling not in ("rbe2", "rbe3"):
-                raise ValueError(f"{key}.coupling must be rbe2|rbe3, got '{reg.coupling}'")
+        _validate_link(lk)
+    _validate_joints(robot.joints, names)
+    if robot.tool.link is not None and robot.tool.link not in names:
+        raise ValueError(f"tool.link: unknown link '{robot.tool.link}'")
+    _validate_base_and_wrist(robot)
+    _validate_poses(robot)
+    _validate_effects(robot)
+
+
+def _validate_link(lk: Link) -> None:
+    if lk.units not in LENGTH_UNITS:
+        raise ValueError(f"links.{lk.name}.units: unknown unit '{lk.units}' "
+                         f"(use {'|'.join(LENGTH_UNITS)})")
+    if lk.mesh is not None and not Path(lk.mesh).is_file():
+        raise ValueError(f"links.{lk.name}.mesh: file not found: '{lk.mesh}'")
+    for m in lk.lumped:
+        if not m.mass >= 0:
+            raise ValueError(f"links.{lk.name}.lumped.{m.name}.mass must be >= 0 kg, "
+                             f"got {m.mass}")
+    for rname, reg in lk.regions.items():
+        key = f"links.{lk.name}.regions.{rname}"
+        if abs(np.linalg.norm(reg.axis) - 1) > _UNIT_TOL:
+            raise ValueError(f"{key}.axis must be a unit vector, got {list(reg.axis)}")
+        if not 0 <= reg.r_min <= reg.r_max or not reg.half_width > 0:
+            raise ValueError(f"{key}: need 0 <= r_min <= r_max and half_width > 0, got "
+                             f"r_min={reg.r_min}, r_max={reg.r_max}, "
+                             f"half_width={reg.half_width}")
+        if reg.coupling not in ("rbe2", "rbe3"):
+            raise ValueError(f"{key}.coupling must be rbe2|rbe3, got '{reg.coupling}'")
+
+
+def _validate_joints(joints: tuple[Joint, ...], names: list[str]) -> None:
     seen = {names[0]}
-    for j, jt in enumerate(robot.joints):
+    for j, jt in enumerate(joints):
         key = f"joints.{jt.name}"
         if jt.parent not in names:
             raise ValueError(f"{key}.parent: unknown link '{jt.parent}'")
@@ -276,26 +292,15 @@ def validate(robot: Robot) -> None:
                              f"upper {math.degrees(jt.upper):g} deg")
         if not jt.gear_ratio != 0:
             raise ValueError(f"{key}.gear_ratio must be nonzero, got {jt.gear_ratio}")
-    if robot.tool.link is not None and robot.tool.link not in names:
-        raise ValueError(f"tool.link: unknown link '{robot.tool.link}'")
+
+
+def _validate_base_and_wrist(robot: Robot) -> None:
     if robot.base.kind not in ("clamped", "spring"):
         raise ValueError(f"base.support must be clamped|spring, got '{robot.base.kind}'")
     if robot.base.kind == "spring":
         K = np.asarray(robot.base.stiffness, dtype=float)
         if K.shape != (6, 6) or not np.allclose(K, K.T) or np.linalg.eigvalsh(K).min() <= 0:
             raise ValueError("base.stiffness must be a symmetric positive definite 6x6 matrix")
-    lo = np.array([j.lower for j in robot.joints])
-    hi = np.array([j.upper for j in robot.joints])
-    for pname, q in robot.poses.items():
-        q = np.asarray(q, dtype=float)
-        if q.shape != lo.shape:
-            raise ValueError(f"poses.{pname} must have {len(lo)} angles, got {len(q)}")
-        bad = np.flatnonzero((q < lo) | (q > hi))
-        if bad.size:
-            j = int(bad[0])
-            raise ValueError(f"poses.{pname}: {robot.joints[j].name} = {math.degrees(q[j]):g} "
-                             f"deg outside limits [{math.degrees(lo[j]):g}, "
-                             f"{math.degrees(hi[j]):g}] deg")
     if robot.wrist_stiffness is not None:
         W = np.asarray(robot.wrist_stiffness, dtype=float)
         if W.shape != (3, 3) or not np.allclose(W, W.T) or np.linalg.eigvalsh(W).min() <= 0:
@@ -307,6 +312,29 @@ def validate(robot: Robot) -> None:
         if not np.all(np.isfinite(Cw)) or abs(np.linalg.det(Cw)) < 1e-9:
             # motor_to_joint inverts it; C^T diag(k) C would not be positive definite
             raise ValueError("wrist.coupling must be an invertible 3x3 matrix")
+
+
+def _validate_poses(robot: Robot) -> None:
+    lo, hi = robot.lower, robot.upper
+    for pname, q in robot.poses.items():
+        q = np.asarray(q, dtype=float)
+        if q.shape != lo.shape:
+            raise ValueError(f"poses.{pname} must have {len(lo)} angles, got {len(q)}")
+        bad = np.flatnonzero((q < lo) | (q > hi))
+        if bad.size:
+            j = int(bad[0])
+            raise ValueError(f"poses.{pname}: {robot.joints[j].name} = {math.degrees(q[j]):g} "
+                             f"deg outside limits [{math.degrees(lo[j]):g}, "
+                             f"{math.degrees(hi[j]):g}] deg")
+
+
+def _validate_effects(robot: Robot) -> None:
+    from .effects import NONLINEAR
+
+    for e in robot.effects:
+        if e.kind not in NONLINEAR or e.joint is None or not 0 <= e.joint < len(robot.joints):
+            raise ValueError(f"nonlinear: a robot carries joint laws of kind "
+                             f"{'|'.join(NONLINEAR)} on one of its joints, got {e.label}")
 
 
 def pose_from_string(robot: Robot, text: str) -> FloatArray:

@@ -7,7 +7,7 @@ configuration ``conf = [cf1, cf4, cf6, cfx]``.  The arm's own TCP (``robot.tool`
 for the demo arm 150 mm out of the flange) is a different point: :func:`tool_frame`
 names which one the targets are read as.
 
-The closed form of :func:`flexarm.assembly.ik.ik_analytic` gives up to eight
+The closed form of :func:`flexarm.robot.ik.ik_analytic` gives up to eight
 branches; joints 4 and 6 may also turn by whole revolutions.  At every programmed
 target the branch whose :func:`rapid_conf` equals the programmed ``conf`` is the
 requested one.  Between targets (and wherever ``conf`` cannot be met, e.g. the
@@ -22,10 +22,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ...fe.typing import FloatArray, IntArray
-from ..ik import IKConfig, ik, ik_analytic
-from ..kinematics import Chain, link_frames, tcp_frame
-from ..paths import SampledPath, quat_to_matrix
+from ..fe.typing import FloatArray, IntArray
+from .ik import IKConfig, ik, ik_analytic
+from .kinematics import Chain, link_frames, tcp_frame
+from .paths import SampledPath, quat_to_matrix
 
 __all__ = ["PathIK", "tool_frame", "target_frames", "rapid_conf", "ik_conf", "ik_path"]
 
@@ -83,7 +83,7 @@ def rapid_conf(chain: Chain, q: FloatArray) -> IntArray:
 
     Examples
     --------
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> r = load_demo_robot()
     >>> rapid_conf(r.chain, np.radians([100, 10, 0, -30, 20, 200])).tolist()
     [1, -1, 2, 0]
@@ -161,7 +161,7 @@ def ik_path(chain: Chain, path: SampledPath, confs, lower: FloatArray, upper: Fl
     chain : Chain
         The arm's kinematics (``robot.chain``); its own tool is replaced by ``tool``.
     path : SampledPath
-        From :func:`~flexarm.assembly.paths.sample_procedure`; positions in the base frame.
+        From :func:`~flexarm.robot.paths.sample_procedure`; positions in the base frame.
     confs : (n_motions, 4) int or None
         ``conf`` of every motion's ``ToPoint`` (``Procedure.motions[k].to_point.conf``);
         None: no configuration data (continuity from ``q_start`` only).
@@ -180,9 +180,9 @@ def ik_path(chain: Chain, path: SampledPath, confs, lower: FloatArray, upper: Fl
     Examples
     --------
     >>> from importlib.resources import files
-    >>> from flexarm.assembly.formats.rapid import read_rapid
-    >>> from flexarm.assembly.paths import sample_procedure
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.formats.rapid import read_rapid
+    >>> from flexarm.robot.paths import sample_procedure
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> r = load_demo_robot()
     >>> proc = read_rapid(files("flexarm") / "data/rapid/ldbb_thesis.mod").procedures["Path_30"]
     >>> sol = ik_path(r.chain, sample_procedure(proc, step_mm=20), [m.to_point.conf for m in

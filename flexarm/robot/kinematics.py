@@ -6,7 +6,7 @@ child of joint ``i - 1`` and carries the link frame ``L_i``.  Joint ``j`` sits a
 turns its child about ``axes[j]`` (a unit vector in the child frame, which equals
 the parent frame at zero angle).  Everything is batched over a leading pose axis.
 
-Inverse kinematics lives in :mod:`flexarm.assembly.ik`.
+Inverse kinematics lives in :mod:`flexarm.robot.ik`.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """TCP paths from RAPID procedures: sampling and circle/sphere geometry.
 
-A procedure read by :func:`flexarm.assembly.formats.rapid.read_rapid` becomes a
+A procedure read by :func:`flexarm.robot.formats.rapid.read_rapid` becomes a
 :class:`SampledPath`: TCP positions [mm] and orientations (unit quaternions
 ``[w, x, y, z]``, scalar first as in RAPID) in the work-object frame of its
 instructions, densely sampled by arc length.
@@ -18,7 +18,7 @@ Interpolation follows the programmed geometry:
 
 Corner zones (``z100`` ...) are not modelled: the path passes through every target.
 Tolerances below are module constants until they move into ``fe.tolerances``.
-The quaternion helpers live in :mod:`flexarm.assembly.quaternions` and are
+The quaternion helpers live in :mod:`flexarm.robot.quaternions` and are
 re-exported here.
 """
 
@@ -31,7 +31,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fe.tolerances import tol
 from ..fe.typing import ArrayLike, BoolArray, FloatArray, IntArray
 from .formats.rapid import JointTarget, Motion, Procedure, RobTarget
 from .quaternions import (
@@ -44,6 +43,7 @@ from .quaternions import (
     quat_to_matrix,
     slerp,
 )
+from .tolerances import tol
 
 __all__ = [
     "SampledPath",
@@ -314,7 +314,7 @@ def sample_procedure(
     Parameters
     ----------
     procedure : Procedure
-        From :func:`~flexarm.assembly.formats.rapid.read_rapid`.
+        From :func:`~flexarm.robot.formats.rapid.read_rapid`.
     start : RobTarget, optional
         Where the robot is before the first instruction.  Without it the path starts at
         the first instruction's destination (the approach move is not sampled), and a
@@ -334,7 +334,7 @@ def sample_procedure(
     Examples
     --------
     >>> from importlib.resources import files
-    >>> from flexarm.assembly.formats.rapid import read_rapid
+    >>> from flexarm.robot.formats.rapid import read_rapid
     >>> mod = read_rapid(files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod")
     >>> path = sample_procedure(mod.procedures["Path_30"], step_mm=5.0)
     >>> round(float(path.arc_length_mm[-1]), 6)  # one turn of a 155 mm circle

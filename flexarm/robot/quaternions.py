@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..fe.tolerances import tol
 from ..fe.typing import ArrayLike, FloatArray
+from .tolerances import tol
 
 __all__ = [
     "quat_normalize",

@@ -38,13 +38,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fe.files import atomic_path, cache_dir, digest, file_digest
-from ..fe.typing import FloatArray
-from ..reduction import Superelement, reduce_with_stats
-from ..reduction.couplings import rigid_transport
-from ..reduction.formats import h5
-from .analyses import natural_frequencies, tcp_compliance
-from .build import (
+from ..assembly.analyses import natural_frequencies, tcp_compliance
+from ..assembly.build import (
     BuildOptions,
     LinkBuild,
     Mesher,
@@ -54,9 +49,14 @@ from .build import (
     link_mesh,
     link_regions,
 )
-from .flexible import flexible_arm
-from .robot import Robot
-from .study_plots import plot_error_vs_dof, plot_pareto
+from ..assembly.flexible import flexible_arm
+from ..fe.files import atomic_path, cache_dir, digest, file_digest
+from ..fe.typing import FloatArray
+from ..reduction import Superelement, reduce_with_stats
+from ..reduction.couplings import rigid_transport
+from ..reduction.formats import h5
+from ..robot.description import Robot
+from .arm_study_plots import plot_error_vs_dof, plot_pareto
 
 __all__ = ["PRESETS", "StudyRow", "Reference", "StudyResult", "parse_representation",
            "tied_superelement", "kmaster_builds", "reference_result", "run_variant",
@@ -238,7 +238,7 @@ def reference_result(robot: Robot, q, mesh_size: float, coupling: str = "rbe2",
     those of every variant.  Cached as JSON in ``cache_dir()/study`` keyed by the robot,
     its meshes, the pose and the options; ``seconds`` is the time of the first run.
     """
-    from .full_fe import full_fe_analysis, full_fe_bodies
+    from ..assembly.full_fe import full_fe_analysis, full_fe_bodies
 
     say = progress or (lambda message: None)
     opts = BuildOptions("cb", 0, coupling, mesh_size).resolved(robot)
@@ -388,7 +388,7 @@ def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = No
     mesher : callable, optional
         As for :func:`~flexarm.assembly.build.build_robot` (tests).
     """
-    from .robot import pose_from_string
+    from ..robot.description import pose_from_string
 
     say = progress or (lambda message: None)
     q = pose_from_string(robot, pose)

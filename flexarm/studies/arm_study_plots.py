@@ -1,4 +1,4 @@
-"""Plots of the whole-arm accuracy study (:mod:`flexarm.assembly.study`).
+"""Plots of the whole-arm accuracy study (:mod:`flexarm.studies.arm_study`).
 
 ``arm_study_error_vs_dof.png`` (log-log error against DOF) and ``arm_study_pareto.png``
 (error against build + solve time).  matplotlib is imported inside the functions.
@@ -15,7 +15,7 @@ from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
 
 if TYPE_CHECKING:
-    from .study import StudyResult
+    from .arm_study import StudyResult
 
 __all__ = ["plot_error_vs_dof", "plot_pareto"]
 

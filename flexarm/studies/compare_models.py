@@ -17,14 +17,14 @@ from pathlib import Path
 
 import numpy as np
 
+from ..assembly.analyses import frf, natural_frequencies, tcp_compliance
+from ..assembly.build import BuildOptions, Mesher, build_robot
+from ..assembly.emodel import emodel
+from ..assembly.flexible import flexible_arm
+from ..assembly.full_fe import full_fe_analysis, full_fe_bodies
 from ..fe.plotting import pyplot
 from ..fe.typing import FloatArray
-from .analyses import frf, natural_frequencies, tcp_compliance
-from .build import BuildOptions, Mesher, build_robot
-from .emodel import emodel
-from .flexible import flexible_arm
-from .full_fe import full_fe_analysis, full_fe_bodies
-from .robot import Robot, pose_from_string
+from ..robot.description import Robot, pose_from_string
 
 __all__ = ["ModelResult", "ComparisonReport", "compare_models"]
 

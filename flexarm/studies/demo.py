@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .fe import (
+from ..fe import (
     MATERIALS,
     assemble,
     dof_split,
@@ -25,7 +25,7 @@ from .fe import (
     node_dofs,
     shift_invert,
 )
-from .fe.files import atomic_path
+from ..fe.files import atomic_path
 
 __all__ = ["DemoReport", "run_demo"]
 
@@ -53,7 +53,7 @@ def _write_csv(path: Path, header: list[str], rows) -> None:
 
 def _part_step(out: Path, report: DemoReport, progress: Progress, size: float) -> None:
     """One built-in cast link: CAD -> Tet10 -> free and clamped modes."""
-    from .meshes import (
+    from ..meshes import (
         hollow_link_surface,
         mesh_quality,
         tetrahedralize,
@@ -118,8 +118,8 @@ def _part_step(out: Path, report: DemoReport, progress: Progress, size: float) -
 def _superelement_pictures(out: Path, mesh, material, report: DemoReport,
                            progress: Progress) -> list[str]:
     """Craig-Bampton superelement of the link on its two hub bores, plus mode pictures."""
-    from .reduction import CylinderRegion, reduce_with_stats
-    from .reduction.formats import write as write_superelement
+    from ..reduction import CylinderRegion, reduce_with_stats
+    from ..reduction.formats import write as write_superelement
 
     bores = [CylinderRegion(name, (x, 0.0, 0.0), (0.0, 1.0, 0.0), 0.0, 0.065, 0.1)
              for name, x in (("hub_a", 0.0), ("hub_b", 0.8))]
@@ -133,7 +133,7 @@ def _superelement_pictures(out: Path, mesh, material, report: DemoReport,
         + ", ".join(f"{f:.0f}" for f in se.freq_hz[:5]) + " Hz",
     ]
     try:
-        from .reduction.render import render_mode
+        from ..reduction.render import render_mode
 
         render_mode(se, 1, out / "link_fixed_mode1.png", boundary="fixed")
         render_mode(se, 1, out / "link_free_mode1.gif", boundary="free")
@@ -146,17 +146,17 @@ def _superelement_pictures(out: Path, mesh, material, report: DemoReport,
 
 def _emodel_step(out: Path, report: DemoReport, progress: Progress) -> None:
     """The built-in arm as an E-model (rigid links + joint springs) at the thesis poses."""
-    from .assembly import emodel, identify_stiffness, stiffness_map, tcp_compliance
-    from .assembly import modes as arm_modes
-    from .assembly.analyses import frf
-    from .assembly.maps import plot_map, write_csv
-    from .assembly.plots import plot_frf
-    from .meshes.demo_arm import load_demo_robot
+    from ..assembly import emodel, identify_stiffness, stiffness_map, tcp_compliance
+    from ..assembly import modes as arm_modes
+    from ..assembly.analyses import frf
+    from ..assembly.maps import plot_map, write_csv
+    from ..robot.demo_arm import load_demo_robot
+    from .plots import plot_frf
 
     robot = load_demo_robot()
     progress("arm: link mass properties from tetrahedral meshes (cached after the first run)")
     arm = emodel(robot, method="tets", mesh_size=robot.options.mesh_size)
-    from .assembly.emodel import total_mass
+    from ..assembly.emodel import total_mass
 
     mass = total_mass(robot, method="tets", mesh_size=robot.options.mesh_size)
     rows, lines = [], []
@@ -213,17 +213,14 @@ def _measurement_step(out: Path, report: DemoReport, progress: Progress) -> None
     """Shipped lab data with a hidden effect: compare -> diagnose -> apply -> compare."""
     from importlib.resources import files
 
-    from .assembly.emodel import emodel
-    from .meshes.demo_arm import load_demo_robot
-    from .validation import read_measurements
-    from .validation.compare import compare_static, write_report
-    from .validation.diagnose import diagnose
-    from .validation.history import (
-        read_robot_effects,
-        robot_with_effects,
-        write_history,
-        write_robot,
-    )
+    from ..assembly.emodel import emodel
+    from ..robot.demo_arm import load_demo_robot
+    from ..robot.formats import read as read_robot
+    from ..robot.formats import write as write_robot
+    from ..validation import read_measurements
+    from ..validation.compare import compare_static, write_report
+    from ..validation.diagnose import diagnose
+    from ..validation.history import robot_with_effects, write_history
 
     source = Path(str(files("flexarm") / "data" / "lab" / "lab_hidden_effect.csv"))
     data_path = out / "measurements.csv"
@@ -236,9 +233,9 @@ def _measurement_step(out: Path, report: DemoReport, progress: Progress) -> None
     write_report(out / "measurements_v0", before)
     dg = diagnose(arm, data, poses=robot.poses)
     write_history(out / "diagnosis", dg)
-    new, nonlinear = robot_with_effects(robot, arm, dg.final_effects)
-    write_robot(out / "robot_v1.toml", new, nonlinear)
-    robot1, effects1 = read_robot_effects(out / "robot_v1.toml")
+    write_robot(out / "robot_v1.toml", robot_with_effects(robot, arm, dg.final_effects))
+    robot1 = read_robot(out / "robot_v1.toml")
+    effects1 = list(robot1.effects)
     after = compare_static(emodel(robot1, method="surface"), data, effects1)
     write_report(out / "measurements_v1", after)
     accepted = [st.explanation for st in dg.steps if st.accepted]
@@ -279,14 +276,14 @@ def _measurement_step(out: Path, report: DemoReport, progress: Progress) -> None
 
 def _flexible_step(out: Path, report: DemoReport, progress: Progress) -> None:
     """Superelement links at P1-P3: build, model comparison, a small study, pictures, map."""
-    from .assembly import stiffness_map, tcp_compliance
-    from .assembly.analyses import natural_frequencies
-    from .assembly.build import BuildOptions, build_robot
-    from .assembly.compare import compare_models
-    from .assembly.flexible import flexible_arm
-    from .assembly.maps import plot_map, write_csv
-    from .assembly.study import run_study
-    from .meshes.demo_arm import load_demo_robot
+    from ..assembly import stiffness_map, tcp_compliance
+    from ..assembly.analyses import natural_frequencies
+    from ..assembly.build import BuildOptions, build_robot
+    from ..assembly.flexible import flexible_arm
+    from ..assembly.maps import plot_map, write_csv
+    from ..robot.demo_arm import load_demo_robot
+    from .arm_study import run_study
+    from .compare_models import compare_models
 
     robot = load_demo_robot()
     opts = BuildOptions().resolved(robot)
@@ -354,14 +351,14 @@ def _flexible_step(out: Path, report: DemoReport, progress: Progress) -> None:
 
 def arm_dofs(arm) -> int:
     """Independent coordinates of an assembled arm (joint DOFs + body DOFs)."""
-    from .assembly.system import system_matrices
+    from ..assembly.system import system_matrices
 
     return int(system_matrices(arm, np.zeros(arm.chain.n_joints)).K.shape[-1])
 
 
 def _arm_pictures(out: Path, robot, arm, builds) -> list[str]:
     try:
-        from .assembly.render_arm import render_arm_mode
+        from .render_arm import render_arm_mode
 
         q = robot.pose("P1")
         # 800 x 600: software GL renders each GIF frame in ~0.25 s instead of ~0.45 s
@@ -467,9 +464,9 @@ def _run_parallel(out: Path, report: DemoReport, progress: Progress, size: float
     import threading
     from concurrent.futures import ProcessPoolExecutor
 
-    from .assembly.emodel import total_mass
-    from .meshes.demo_arm import load_demo_robot
-    from .reduction.render import prefetch_render_backend
+    from ..assembly.emodel import total_mass
+    from ..reduction.render import prefetch_render_backend
+    from ..robot.demo_arm import load_demo_robot
 
     prefetch_render_backend()
     # Mesh every link here first (reads the caches when warm): the worker's E-model mass

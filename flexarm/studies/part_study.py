@@ -29,9 +29,9 @@ from ..fe.files import atomic_path
 from ..fe.material import Material
 from ..fe.mesh import TetMesh
 from ..fe.plotting import pyplot
-from .craig_bampton import craig_bampton
-from .interfaces import CylinderRegion
-from .reduce import CoupledModel, coupled_model
+from ..reduction.craig_bampton import craig_bampton
+from ..reduction.interfaces import CylinderRegion
+from ..reduction.reduce import CoupledModel, coupled_model
 
 __all__ = ["StudyRow", "REPRESENTATIONS", "bar_link", "study_part", "write_csv", "plot_study"]
 

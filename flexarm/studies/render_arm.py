@@ -25,13 +25,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..assembly.build import LinkBuild
+from ..assembly.flexible import body_coordinates
+from ..assembly.system import ArmModel, SystemMatrices, rotation_blocks, system_matrices
 from ..fe.typing import ArrayLike, FloatArray, IntArray
 from ..reduction.couplings import rigid_transport
 from ..reduction.render import _picture_suffix, save_picture
-from .build import LinkBuild
-from .flexible import body_coordinates
-from .robot import Robot
-from .system import ArmModel, SystemMatrices, rotation_blocks, system_matrices
+from ..robot.description import Robot
 
 __all__ = ["LinkField", "superelement_dofs", "link_fields", "mode_fields",
            "compliance_ellipsoid", "render_arm", "arm_model", "render_arm_mode"]
@@ -116,7 +116,7 @@ def link_fields(robot: Robot, arm: ArmModel, q: ArrayLike, x: ArrayLike,
 def mode_fields(robot: Robot, arm: ArmModel, q: ArrayLike, mode: int,
                 builds: Sequence[LinkBuild] | None = None) -> tuple[float, list[LinkField]]:
     """Frequency [Hz] and link fields of arm mode ``mode`` (1-based) at pose ``q``."""
-    from .analyses import modes
+    from ..assembly.analyses import modes
 
     md = modes(arm, q)
     if not 1 <= mode <= md.freq_hz.size:
@@ -225,9 +225,9 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
 def arm_model(robot: Robot, model: str = "cb", n_modes: int | None = None,
               coupling: str = "rbe2", mesh_size: float | None = None, progress=None):
     """``(arm, builds)`` for ``model`` in {"cb", "guyan", "emodel"} (builds None for E)."""
-    from .build import BuildOptions, build_robot
-    from .emodel import emodel
-    from .flexible import flexible_arm
+    from ..assembly.build import BuildOptions, build_robot
+    from ..assembly.emodel import emodel
+    from ..assembly.flexible import flexible_arm
 
     if model == "emodel":
         ms = robot.options.mesh_size if mesh_size is None else mesh_size
@@ -247,8 +247,8 @@ def render_arm_mode(robot: Robot, q: ArrayLike, mode: int = 1, path=None, model:
     ``arm``/``builds`` reuse an :func:`arm_model` result; ``ellipsoid`` adds the TCP
     compliance ellipsoid; ``options`` go to :func:`render_arm`.
     """
-    from .analyses import tcp_compliance
-    from .kinematics import tcp_frame
+    from ..assembly.analyses import tcp_compliance
+    from ..robot.kinematics import tcp_frame
 
     if arm is None:
         arm, builds = arm_model(robot, model)

@@ -1,6 +1,6 @@
 """The library of candidate effects: signatures on the data, screening, load proposals.
 
-A candidate is a named physical effect (:class:`~flexarm.validation.effects.Effect`)
+A candidate is a named physical effect (:class:`~flexarm.robot.effects.Effect`)
 with *amplitude* parameters that enter the predictions linearly (backlash width, extra
 compliance, lost motion, tilt/base/wrist compliances) and at most one *shape* parameter
 scanned on a grid (hardening threshold, hysteresis torque radius).  Its *signature* is
@@ -22,9 +22,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fe.tolerances import tol
-from .effects import Effect
+from ..robot.effects import Effect
 from .fit import FitResult, Problem
+from .tolerances import tol
 
 __all__ = ["Candidate", "Screen", "library", "screen", "load_proposal"]
 

@@ -17,9 +17,9 @@ import numpy as np
 
 from ..assembly.system import ArmModel
 from ..fe.plotting import pyplot
-from ..fe.tolerances import tol
 from .fit import Problem, chi2_band
 from .measurements import StaticData
+from .tolerances import tol
 
 __all__ = ["Comparison", "compare_static", "write_report"]
 

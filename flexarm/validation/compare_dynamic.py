@@ -19,14 +19,14 @@ from pathlib import Path
 import numpy as np
 
 from ..assembly.analyses import frf
+from ..assembly.effects import apply_effects
+from ..assembly.linkflex import links_arm, split_links
 from ..assembly.system import ArmModel
 from ..fe.plotting import pyplot
-from ..fe.tolerances import tol
-from .effects import apply_effects
 from .fit import chi2_band
-from .linkflex import links_arm, split_links
 from .measurements import FrfData, ModalData
 from .modal import match_frequencies
+from .tolerances import tol
 
 __all__ = ["ModalComparison", "FrfComparison", "compare_modal", "compare_frf",
            "write_modal_report", "write_frf_report"]
@@ -56,7 +56,7 @@ def compare_modal(arm: ArmModel, data: ModalData, effects=(), freq_noise: float 
 
     Examples
     --------
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> from flexarm.assembly.emodel import emodel
     >>> robot = load_demo_robot()
     >>> arm = emodel(robot, method="surface")

@@ -17,12 +17,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..assembly.system import ArmModel
-from ..fe.tolerances import tol
 from .candidates import Screen, library, load_proposal, screen, status_of
 from .explain import explain, static_notes
 from .fit import Problem, baseline_effects, chi2_band, fit_model, heldout_rms
 from .measurements import ModalData, StaticData
 from .modal import ModalProblem
+from .tolerances import tol
 
 __all__ = ["CandidateReport", "Step", "Diagnosis", "diagnose"]
 
@@ -131,7 +131,7 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
     ``poses`` (name -> q [rad], e.g. ``robot.poses``) widen the search for load proposals.
     ``modal`` (measured natural frequencies, relative noise ``freq_noise``) joins the
     static data in every fit; ``flexible`` (the robot's flexible model) adds the
-    link-flexibility candidate (:mod:`~flexarm.validation.linkflex`).
+    link-flexibility candidate (:mod:`~flexarm.assembly.linkflex`).
     Returns a :class:`Diagnosis`; ``accepted`` holds the accepted effects with fitted
     parameters, ``final_effects`` the full fitted model (baseline scales included).
     """

@@ -29,7 +29,7 @@ therefore removes its amplitudes (a backlash width, a lost motion, a compliance,
 three wrist couplings) through ``n_fit`` and its shape parameter through ``n_shape``.
 :func:`chi2_band` is the exact central interval of chi^2(nu)/nu.
 
-Model parameters are the named parameters of :class:`~flexarm.validation.effects.Effect`
+Model parameters are the named parameters of :class:`~flexarm.robot.effects.Effect`
 objects; the fit is Gauss-Newton with finite-difference sensitivities (exact in one step
 for rigid links, where every compliance enters linearly) and a weak Gaussian prior on
 the baseline compliance scale factors so that directions the data cannot see stay at
@@ -43,13 +43,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assembly.analyses import tcp_compliance
-from ..assembly.kinematics import jacobian
+from ..assembly.effects import apply_effects
+from ..assembly.linkflex import links_arm, split_links
 from ..assembly.statics import joint_moments, series_starts
 from ..assembly.system import ArmModel
-from ..fe.tolerances import tol
-from .effects import Effect, apply_effects
-from .linkflex import links_arm, split_links
+from ..robot.effects import Effect
+from ..robot.kinematics import jacobian
 from .measurements import StaticData
+from .tolerances import tol
 
 __all__ = ["Problem", "FitResult", "fit_model", "baseline_effects", "chi2_band"]
 
@@ -68,7 +69,7 @@ class Problem:
     noise_model : {"shared", "independent"}
     flexible : ArmModel, optional
         The flexible model of the same robot, for the ``links`` effect
-        (:mod:`~flexarm.validation.linkflex`).
+        (:mod:`~flexarm.assembly.linkflex`).
     """
 
     def __init__(self, arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,

@@ -1,11 +1,10 @@
-"""Model versions: write the updated robot file, the error history and its plot.
+"""Model versions: the updated robot description, the error history and its plot.
 
-Linear effects go into the robot TOML through the standard writer (torsion, tilt,
-foundation spring, wrist stiffness; link flexibility ``c`` as the links' Young's
-modulus ``E / c``, used by the flexible model).  Nonlinear joint laws go into an optional
-top-level ``[nonlinear.<joint name>]`` table that the core reader ignores and
-:func:`read_robot_effects` reads back (keys: ``backlash_rad``; ``hardening_extra_rad_per_Nm``
-+ ``hardening_threshold_Nm``; ``hysteresis_lost_rad`` + ``hysteresis_radius_Nm``).
+:func:`robot_with_effects` builds the accepted effects into a new
+:class:`~flexarm.robot.description.Robot`: linear effects as its joint, foundation and
+wrist springs (link flexibility ``c`` as the links' Young's modulus ``E / c``, used by the
+flexible model), nonlinear joint laws as its ``effects`` (the robot file's
+``[nonlinear]`` table).  Write it with :func:`flexarm.robot.formats.write`.
 """
 
 from __future__ import annotations
@@ -16,18 +15,14 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-import tomllib
 
-from ..assembly.robot import BaseSupport, Robot
+from ..assembly.effects import apply_effects, resolve
 from ..assembly.system import ArmModel
-from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
-from .effects import Effect, apply_effects, resolve
+from ..robot.description import BaseSupport, Robot
+from ..robot.effects import NONLINEAR
 
-__all__ = ["robot_with_effects", "write_robot", "read_robot_effects", "write_history"]
-
-_NONLINEAR = ("backlash", "hardening", "hysteresis")
-
+__all__ = ["robot_with_effects", "write_history"]
 
 def _fitted_joint(joint, fitted):
     """The robot joint carrying the fitted E-model joint ``fitted``.
@@ -41,10 +36,11 @@ def _fitted_joint(joint, fitted):
     return replace(joint, emodel=fitted, model=replace(joint.model, torsion=fitted.torsion))
 
 
-def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> tuple[Robot, list[Effect]]:
-    """Robot with the linear effects built in, and the nonlinear effects (resolved)."""
-    linear = [e for e in effects if e.kind not in _NONLINEAR]
-    nonlinear = [resolve(e, arm) for e in effects if e.kind in _NONLINEAR]
+def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> Robot:
+    """``robot`` with the linear ``effects`` built into its springs and the nonlinear ones
+    (resolved to their SI model form against ``arm``) as its ``effects``."""
+    linear = [e for e in effects if e.kind not in NONLINEAR]
+    nonlinear = tuple(resolve(e, arm) for e in effects if e.kind in NONLINEAR)
     new, _ = apply_effects(arm, linear)
     joints = tuple(_fitted_joint(j, m) for j, m in zip(robot.joints, new.joints, strict=True))
     base = robot.base
@@ -58,60 +54,8 @@ def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> tuple[Robot, lis
     if c > 0:  # link flexibility: the flexible model with Young's modulus E / c
         links = tuple(replace(lk, material=replace(lk.material, E=lk.material.E / c))
                       for lk in robot.links)
-    return replace(robot, joints=joints, base=base, wrist_stiffness=wrist,
-                   links=links), nonlinear
-
-
-def write_robot(path, robot: Robot, nonlinear=()) -> Path:
-    """Write ``robot`` (TOML, atomic) with a ``[nonlinear]`` table for the joint laws."""
-    import tomli_w
-
-    from ..assembly.formats.toml import to_dict
-
-    path = Path(path)
-    data = to_dict(robot, path.resolve().parent)
-    table: dict = {}
-    for e in nonlinear:
-        d = table.setdefault(robot.joint_names[e.joint], {})
-        if e.kind == "backlash":
-            d["backlash_rad"] = e.get("width")
-        elif e.kind == "hardening":
-            d["hardening_extra_rad_per_Nm"] = e.get("extra")
-            d["hardening_threshold_Nm"] = e.get("threshold")
-        else:
-            d["hysteresis_lost_rad"] = e.get("lost")
-            d["hysteresis_radius_Nm"] = e.get("radius")
-    if table:
-        data["nonlinear"] = table
-    with atomic_path(path) as tmp:
-        tmp.write_bytes(tomli_w.dumps(data).encode())
-    return path
-
-
-def read_robot_effects(path) -> tuple[Robot, list[Effect]]:
-    """Read a robot TOML and its optional ``[nonlinear]`` table as effects."""
-    from ..assembly.formats import read
-
-    robot = read(path)
-    with open(path, "rb") as fh:
-        table = tomllib.load(fh).get("nonlinear", {})
-    names = list(robot.joint_names)
-    effects = []
-    for jname, d in table.items():
-        if jname not in names:
-            raise ValueError(f"{path}: nonlinear.{jname}: no such joint (have {names})")
-        j = names.index(jname)
-        if "backlash_rad" in d:
-            effects.append(Effect("backlash", j, (("width", float(d["backlash_rad"])),)))
-        if "hardening_extra_rad_per_Nm" in d:
-            effects.append(Effect("hardening", j, (
-                ("extra", float(d["hardening_extra_rad_per_Nm"])),
-                ("threshold", float(d["hardening_threshold_Nm"])))))
-        if "hysteresis_lost_rad" in d:
-            effects.append(Effect("hysteresis", j, (
-                ("lost", float(d["hysteresis_lost_rad"])),
-                ("radius", float(d["hysteresis_radius_Nm"])))))
-    return robot, effects
+    return replace(robot, joints=joints, base=base, wrist_stiffness=wrist, links=links,
+                   effects=nonlinear)
 
 
 def write_history(folder, diagnosis) -> list[Path]:

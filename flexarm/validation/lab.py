@@ -18,12 +18,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..assembly.effects import apply_effects
+from ..assembly.linkflex import links_arm, split_links
 from ..assembly.statics import relative_deflection
 from ..assembly.system import ArmModel
 from ..fe.files import atomic_path
-from .effects import Effect, apply_effects
+from ..robot.effects import Effect
 from .formats import write_static
-from .linkflex import links_arm, split_links
 from .measurements import StaticData
 
 __all__ = ["LabPlan", "parse_dirs", "parse_loads", "virtual_lab", "write_lab"]
@@ -96,7 +97,7 @@ def virtual_lab(arm: ArmModel, plan: LabPlan, effects: list[Effect] = (), noise:
     Examples
     --------
     >>> from flexarm.assembly.emodel import emodel
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> robot = load_demo_robot()
     >>> arm = emodel(robot, method="surface")
     >>> plan = LabPlan({"P1": robot.pose("P1")}, np.array([0.0, 100.0]), parse_dirs("z"))

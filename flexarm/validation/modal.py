@@ -31,12 +31,13 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ..assembly.analyses import natural_frequencies
+from ..assembly.effects import apply_effects
+from ..assembly.linkflex import links_arm, split_links
 from ..assembly.system import ArmModel
-from ..fe.tolerances import tol
-from .effects import Effect, apply_effects
+from ..robot.effects import Effect
 from .fit import Problem
-from .linkflex import links_arm, split_links
 from .measurements import ModalData, StaticData
+from .tolerances import tol
 
 __all__ = ["ModalProblem", "ModeMatch", "MATCH_WINDOW", "match_modes", "match_frequencies",
            "model_frequencies", "virtual_modal"]

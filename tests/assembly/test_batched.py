@@ -16,7 +16,7 @@ from flexarm.assembly.emodel import emodel
 from flexarm.assembly.flexible import flexible_arm
 from flexarm.assembly.system import system_matrices
 
-from .box_arm import box_mesher
+from ..box_arm import box_mesher
 
 
 def _assembled_compliance(arm, Q):

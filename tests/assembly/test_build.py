@@ -5,7 +5,7 @@ import pytest
 
 from flexarm.assembly.build import BuildOptions, build_link, build_robot, link_regions
 
-from .box_arm import box_mesher
+from ..box_arm import box_mesher
 
 
 def test_region_order_demo(demo_robot):
@@ -52,7 +52,7 @@ def test_gmsh_mesher_builds_reproducibly(box_robot, tmp_path):
     import dataclasses
 
     pytest.importorskip("gmsh", exc_type=ImportError)
-    from flexarm.assembly.formats.toml import read, write
+    from flexarm.robot.formats.toml import read, write
 
     robot = dataclasses.replace(box_robot, options=dataclasses.replace(box_robot.options,
                                                                        mesher="gmsh"))

@@ -13,9 +13,9 @@ from flexarm.assembly.equivalent import (
     link_rotational_compliance,
 )
 from flexarm.assembly.flexible import flexible_arm
-from flexarm.assembly.formats.toml import read, write
+from flexarm.robot.formats.toml import read, write
 
-from .box_arm import box_mesher
+from ..box_arm import box_mesher
 
 
 @pytest.fixture(scope="module")

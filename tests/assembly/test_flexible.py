@@ -15,7 +15,7 @@ from flexarm.assembly.emodel import emodel
 from flexarm.assembly.flexible import flexible_arm
 from flexarm.assembly.maps import stiffness_map
 
-from .box_arm import box_mesher
+from ..box_arm import box_mesher
 
 
 @pytest.fixture(scope="module")

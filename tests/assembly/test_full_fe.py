@@ -8,7 +8,7 @@ from flexarm.assembly.build import BuildOptions
 from flexarm.assembly.flexible import flexible_arm
 from flexarm.assembly.full_fe import full_fe_analysis, full_fe_bodies, sparse_bodies
 
-from .box_arm import box_mesher
+from ..box_arm import box_mesher
 
 
 @pytest.fixture(scope="module")

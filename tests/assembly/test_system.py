@@ -5,9 +5,9 @@ import numpy as np
 from flexarm.assembly.analyses import modes, tcp_compliance
 from flexarm.assembly.bodies import Body, rigid_transport
 from flexarm.assembly.examples import two_link_arm
-from flexarm.assembly.joints import JointModel
-from flexarm.assembly.kinematics import jacobian
 from flexarm.assembly.system import system_matrices
+from flexarm.robot.joints import JointModel
+from flexarm.robot.kinematics import jacobian
 
 
 def torsion_only(arm):

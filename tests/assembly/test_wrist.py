@@ -11,9 +11,9 @@ import pytest
 from flexarm.assembly.analyses import modes, natural_frequencies, tcp_compliance
 from flexarm.assembly.emodel import emodel
 from flexarm.assembly.flexible import coupled_wrist_stiffness
-from flexarm.assembly.kinematics import jacobian
 from flexarm.assembly.system import system_matrices
-from flexarm.meshes.demo_arm import WRIST_TRAINS, wrist_coupling
+from flexarm.robot.demo_arm import WRIST_TRAINS, wrist_coupling
+from flexarm.robot.kinematics import jacobian
 
 POSES = ("P1", "P2", "P3")
 
@@ -154,8 +154,8 @@ def test_emodel_wrist_modes(demo_robot, e_pair):
 @pytest.mark.slow
 def test_cb_wrist_column_differs_by_the_series_formula(demo_robot, wrist_k):
     """compare_models' CB(10)+wrist vs CB(10) at P1-P3 (demo defaults, no full FE)."""
-    from flexarm.assembly.compare import compare_models
     from flexarm.assembly.flexible import flexible_arm
+    from flexarm.studies.compare_models import compare_models
 
     rep = compare_models(demo_robot, POSES, full_fe=False, bode_freq_hz=np.geomspace(1, 1e3, 20))
     for p in POSES:

@@ -17,13 +17,15 @@ def test_circle_chatter_and_map_commands(tmp_path, capsys):
         assert (out / name).stat().st_size > 0
 
 
-def test_circle_flexible_nonlinear_and_static_overlay(tmp_path, capsys, flex_arm, robot):
+def test_circle_flexible_nonlinear_and_static_overlay(tmp_path, capsys, flex_arm, demo_robot):
+    from dataclasses import replace
     from importlib.resources import files
 
-    from flexarm.validation.effects import Effect
-    from flexarm.validation.history import write_robot
+    from flexarm.robot.effects import Effect
+    from flexarm.robot.formats import write as write_robot
 
-    toml = write_robot(tmp_path / "robot.toml", robot, [Effect("backlash", 2, (("width", 2e-4),))])
+    toml = tmp_path / "robot.toml"
+    write_robot(toml, replace(demo_robot, effects=(Effect("backlash", 2, (("width", 2e-4),)),)))
     example = files("flexarm") / "data" / "examples" / "circle_static_example.csv"
     out = tmp_path / "o"
     assert main(["circle", "--robot", str(toml), "--model", "cb", "--mesh-size", "0.06",

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from flexarm.meshes.demo_arm import demo_robot_path, generate
+from flexarm.robot.demo_arm import demo_robot_path, generate
 
 
 def test_regenerates_byte_identical(tmp_path):

@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 import tomllib
 
-from flexarm.assembly.formats import toml as robot_toml
-from flexarm.assembly.formats.toml import from_dict
 from flexarm.fe.errors import ReadError
-from flexarm.meshes.demo_arm import demo_robot_path
+from flexarm.robot.demo_arm import demo_robot_path
+from flexarm.robot.formats import toml as robot_toml
+from flexarm.robot.formats.toml import from_dict
 
 
 @pytest.fixture

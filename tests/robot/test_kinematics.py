@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from flexarm.assembly.ik import IKConfig, ik, ik_analytic, ik_dls, is_spherical_wrist_arm
-from flexarm.assembly.kinematics import (
+from flexarm.robot.ik import IKConfig, ik, ik_analytic, ik_dls, is_spherical_wrist_arm
+from flexarm.robot.kinematics import (
     Chain,
     jacobian,
     joint_to_motor,

@@ -8,8 +8,8 @@ from importlib.resources import files
 import numpy as np
 import pytest
 
-from flexarm.assembly.formats.rapid import Motion, Procedure, RobTarget, read_rapid
-from flexarm.assembly.paths import (
+from flexarm.robot.formats.rapid import Motion, Procedure, RobTarget, read_rapid
+from flexarm.robot.paths import (
     circle_through,
     fit_circle,
     fit_sphere,

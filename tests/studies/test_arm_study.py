@@ -5,18 +5,18 @@ import csv
 import numpy as np
 import pytest
 
-from flexarm.assembly.study import (
+from flexarm.fe.material import MATERIALS
+from flexarm.fe.mesh import TetMesh
+from flexarm.reduction import reduce_part
+from flexarm.studies.arm_study import (
     parse_representation,
     run_study,
     tied_superelement,
     verdict,
 )
-from flexarm.fe.material import MATERIALS
-from flexarm.fe.mesh import TetMesh
-from flexarm.reduction import reduce_part
-from flexarm.reduction.study import bar_link
+from flexarm.studies.part_study import bar_link
 
-from .box_arm import BOXES
+from ..box_arm import BOXES
 
 SIZES = (0.1, 0.05)
 MODES = (0, 4, 12)
@@ -113,7 +113,7 @@ def test_verdict_picks_cheapest(study):
 
 def test_cli_study_arguments(monkeypatch, tmp_path):
     """``flexarm study`` passes its lists through to :func:`run_study`."""
-    import flexarm.assembly.study as st
+    import flexarm.studies.arm_study as st
     from flexarm.cli import main
 
     seen = {}
@@ -131,7 +131,7 @@ def test_cli_study_arguments(monkeypatch, tmp_path):
 
 
 def test_verdict_names_a_seat_model_that_modes_cannot_fix():
-    from flexarm.assembly.study import StudyRow
+    from flexarm.studies.arm_study import StudyRow
 
     def row(coupling, n, err):
         return StudyRow(0.03, coupling, n, f"CB({n})", 50 + n, 1000, err, err, 0.0, 0.0, 1.0, 0.01)

@@ -4,9 +4,9 @@ import csv
 
 import numpy as np
 
-from flexarm.assembly.compare import compare_models
+from flexarm.studies.compare_models import compare_models
 
-from .box_arm import box_mesher
+from ..box_arm import box_mesher
 
 
 def test_compare_models_box_arm(box_robot, tmp_path):

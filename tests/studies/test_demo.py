@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from flexarm.demo import _init_worker, _steps_job, run_demo
+from flexarm.studies.demo import _init_worker, _steps_job, run_demo
 
 
 def test_measurement_demo_error_falls_into_band(tmp_path):
@@ -44,7 +44,7 @@ def test_full_demo_writes_index(tmp_path):
 def test_can_spawn_falls_back_without_semaphores(monkeypatch):
     import multiprocessing
 
-    from flexarm.demo import _can_spawn
+    from flexarm.studies.demo import _can_spawn
 
     assert _can_spawn()
 

@@ -1,7 +1,9 @@
 import pytest
-from reduction_helpers import STEEL
 
-from flexarm.reduction.study import bar_link, study_part
+from flexarm.fe import MATERIALS
+from flexarm.studies.part_study import bar_link, study_part
+
+STEEL = MATERIALS["steel"]
 
 
 def test_study_errors_fall_with_modes_and_compliance_exact():

@@ -12,18 +12,18 @@ from flexarm.assembly.build import (
     link_regions,
 )
 from flexarm.assembly.flexible import flexible_arm
-from flexarm.assembly.render_arm import (
+from flexarm.assembly.system import system_matrices
+from flexarm.reduction import interfaces, reduce_part
+from flexarm.reduction.couplings import rigid_transport
+from flexarm.studies.render_arm import (
     compliance_ellipsoid,
     link_fields,
     mode_fields,
     render_arm_mode,
     superelement_dofs,
 )
-from flexarm.assembly.system import system_matrices
-from flexarm.reduction import interfaces, reduce_part
-from flexarm.reduction.couplings import rigid_transport
 
-from .box_arm import box_mesher
+from ..box_arm import box_mesher
 
 SIZE = (320, 240)
 
@@ -158,7 +158,7 @@ def test_mode_gif_and_emodel(box_robot, tmp_path, gl):
 
 def test_cli_show_arm(box_robot, cached_arm, tmp_path, monkeypatch, gl):
     """``flexarm show-arm`` writes the picture (the arm model is the cached box arm)."""
-    import flexarm.assembly.render_arm as ra
+    import flexarm.studies.render_arm as ra
     from flexarm.cli import main
 
     seen = {}

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from flexarm.validation.effects import parse_effect
+from flexarm.robot.effects import parse_effect
 from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab
 
 #: Truth stiffness errors of the lab arm vs the model given to diagnose (±30 %).
@@ -17,7 +17,7 @@ FLEX_MESH = 0.06
 @pytest.fixture(scope="session")
 def demo():
     from flexarm.assembly.emodel import emodel
-    from flexarm.meshes.demo_arm import load_demo_robot
+    from flexarm.robot.demo_arm import load_demo_robot
 
     robot = load_demo_robot()
     return robot, emodel(robot, method="surface")

@@ -6,6 +6,7 @@ import numpy as np
 
 from flexarm.assembly.analyses import frf
 from flexarm.cli import main
+from flexarm.robot.effects import parse_effect
 from flexarm.validation import FrfData, read_measurements, write_frf
 from flexarm.validation.compare_dynamic import (
     compare_frf,
@@ -13,7 +14,6 @@ from flexarm.validation.compare_dynamic import (
     write_frf_report,
     write_modal_report,
 )
-from flexarm.validation.effects import parse_effect
 from flexarm.validation.modal import virtual_modal
 
 
@@ -55,7 +55,7 @@ def test_compare_modal_matches_by_frequency_and_drops_spurious_lines(demo):
 
 
 def _frf_data(arm, robot, effects=()):
-    from flexarm.validation.effects import apply_effects
+    from flexarm.assembly.effects import apply_effects
 
     truth, _ = apply_effects(arm, list(effects))
     q = robot.pose("P1")

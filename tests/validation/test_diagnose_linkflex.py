@@ -5,11 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from flexarm.fe.tolerances import tol
-from flexarm.validation.diagnose import diagnose
 from flexarm.robot.effects import parse_effect
+from flexarm.validation.diagnose import diagnose
 from flexarm.validation.history import robot_with_effects
 from flexarm.validation.modal import ModalProblem, virtual_modal
+from flexarm.validation.tolerances import tol
 
 from .conftest import PERTURB, noise_alone
 from .test_diagnose import SIGMA, _found, _status

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.stats import chi2
 
-from flexarm.validation.effects import Effect
+from flexarm.robot.effects import Effect
 from flexarm.validation.fit import Problem, baseline_effects, chi2_band, fit_model, with_effect
 
 SIGMA = 15e-6

@@ -8,10 +8,12 @@ import numpy as np
 import pytest
 
 from flexarm.cli import main
+from flexarm.robot.effects import parse_effect
+from flexarm.robot.formats import read as read_robot
+from flexarm.robot.formats import write as write_robot
 from flexarm.validation import read_measurements
 from flexarm.validation.compare import compare_static, write_report
-from flexarm.validation.effects import parse_effect
-from flexarm.validation.history import read_robot_effects, robot_with_effects, write_robot
+from flexarm.validation.history import robot_with_effects
 
 
 def test_lab_shared_reference_structure(lab):
@@ -44,9 +46,10 @@ def test_apply_roundtrip(tmp_path, demo):
     robot, arm = demo
     eff = [parse_effect("backlash:j2=0.1mrad"), parse_effect("base:k=2e7"),
            parse_effect("stiffness:j3=1.3")]
-    new, nonlinear = robot_with_effects(robot, arm, eff)
-    path = write_robot(tmp_path / "r.toml", new, nonlinear)
-    back, effects = read_robot_effects(path)
+    path = tmp_path / "r.toml"
+    write_robot(path, robot_with_effects(robot, arm, eff))
+    back = read_robot(path)
+    effects = back.effects
     assert back.base.kind == "spring" and np.isclose(back.joints[2].model.torsion,
                                                      1.3 * robot.joints[2].model.torsion)
     assert effects[0].kind == "backlash" and np.isclose(effects[0].get("width"), 1e-4)

@@ -1,6 +1,6 @@
 """RAPID data types: robtargets, joint targets, declarations, motions and modules.
 
-The dataclasses :func:`~flexarm.assembly.formats.rapid.read_rapid` returns, the
+The dataclasses :func:`~flexarm.robot.formats.rapid.read_rapid` returns, the
 instruction signatures shared by the reader and the writer, and the configuration
 helpers :func:`quadrant` and :func:`decode_cfx`.  Positions are in mm, quaternions
 ``[w, x, y, z]`` and joint values in degrees, as in RAPID.
@@ -74,7 +74,7 @@ class RobTarget:
         exactly as written (not renormalised).
     conf : (4,) int
         Configuration ``[cf1, cf4, cf6, cfx]``: quadrants of axes 1, 4 and 6 and the
-        arm-configuration number (see :mod:`flexarm.assembly.paths` for its meaning).
+        arm-configuration number (see :mod:`flexarm.robot.paths` for its meaning).
     extax : (6,) float
         External axes a–f [mm or deg]; :data:`EXTAX_UNUSED` (9E9) when not used.
 

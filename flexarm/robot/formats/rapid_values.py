@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from ...fe.tolerances import tol
 from ..quaternions import quat_from_intrinsic_xyz, quat_multiply, quat_to_matrix
+from ..tolerances import tol
 from .rapid_data import EXTAX_UNUSED, JointTarget, RobTarget
 from .rapid_lexer import _Tok, _TokenStream
 

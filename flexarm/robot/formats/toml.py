@@ -2,6 +2,9 @@
 
 Angles are degrees in the file (keys ending ``_deg``), radians inside.  Mesh paths
 are relative to the TOML file.  Rigid joint directions are written ``"rigid"``.
+Nonlinear joint laws live in an optional ``[nonlinear.<joint name>]`` table (keys:
+``backlash_rad``; ``hardening_extra_rad_per_Nm`` + ``hardening_threshold_Nm``;
+``hysteresis_lost_rad`` + ``hysteresis_radius_Nm``), read into ``Robot.effects``.
 Every error names the file, the key and the value.
 """
 
@@ -17,8 +20,7 @@ import tomllib
 from ...fe.errors import ReadError
 from ...fe.files import atomic_path
 from ...fe.material import MATERIALS, Material, material_from_string
-from ..joints import JointModel
-from ..robot import (
+from ..description import (
     BaseSupport,
     Joint,
     Link,
@@ -28,6 +30,8 @@ from ..robot import (
     Robot,
     Tool,
 )
+from ..effects import Effect
+from ..joints import JointModel
 
 __all__ = ["read", "write", "FORMAT_VERSION"]
 
@@ -150,6 +154,43 @@ def _joint_model(m: dict, key: str) -> JointModel:
     )
 
 
+#: [nonlinear.<joint>] keys per effect kind: (file key, effect parameter)
+_NONLINEAR_KEYS = {
+    "backlash": (("backlash_rad", "width"),),
+    "hardening": (("hardening_extra_rad_per_Nm", "extra"), ("hardening_threshold_Nm", "threshold")),
+    "hysteresis": (("hysteresis_lost_rad", "lost"), ("hysteresis_radius_Nm", "radius")),
+}
+
+
+def _nonlinear_effects(table: dict, joint_names: list[str]) -> tuple[Effect, ...]:
+    """Effects of the ``[nonlinear]`` table, joint by joint in file order."""
+    allowed = {key for keys in _NONLINEAR_KEYS.values() for key, _ in keys}
+    effects = []
+    for jname, d in table.items():
+        where = f"nonlinear.{jname}"
+        if jname not in joint_names:
+            raise ValueError(f"{where}: no such joint (have {joint_names})")
+        _check_keys(d, allowed, where)
+        for kind, keys in _NONLINEAR_KEYS.items():
+            if keys[0][0] not in d:
+                continue
+            missing = [key for key, _ in keys if key not in d]
+            if missing:
+                raise ValueError(f"{where}.{missing[0]} is required with {keys[0][0]}")
+            effects.append(Effect(kind, joint_names.index(jname),
+                                  tuple((name, float(d[key])) for key, name in keys)))
+    return tuple(effects)
+
+
+def _nonlinear_table(robot: Robot) -> dict:
+    """The ``[nonlinear]`` table of ``robot.effects`` (empty when there are none)."""
+    table: dict = {}
+    for e in robot.effects:
+        d = table.setdefault(robot.joint_names[e.joint], {})
+        d.update({key: e.get(name) for key, name in _NONLINEAR_KEYS[e.kind]})
+    return table
+
+
 def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
     """Build a :class:`Robot` from parsed TOML ``data``; mesh paths relative to ``folder``."""
     version = data.get("format_version", FORMAT_VERSION)
@@ -184,6 +225,8 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
         wrist_coupling=tuple(map(tuple, w["coupling"])) if "coupling" in w else None,
         wrist_stiffness=tuple(map(tuple, w["stiffness"])) if "stiffness" in w else None,
         source=source,
+        effects=_nonlinear_effects(data.get("nonlinear", {}),
+                                   [str(d.get("name", "")) for d in data.get("joints", [])]),
     )
 
 
@@ -192,7 +235,7 @@ def read(path) -> Robot:
 
     Examples
     --------
-    >>> from flexarm.meshes.demo_arm import demo_robot_path
+    >>> from flexarm.robot.demo_arm import demo_robot_path
     >>> read(demo_robot_path()).joint_names[:2]
     ('joint_1', 'joint_2')
     """
@@ -281,6 +324,9 @@ def to_dict(robot: Robot, folder: Path) -> dict:
         out["wrist"] = wrist
     out["links"] = links
     out["joints"] = joints
+    nonlinear = _nonlinear_table(robot)
+    if nonlinear:
+        out["nonlinear"] = nonlinear
     return out
 
 

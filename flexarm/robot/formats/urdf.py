@@ -20,9 +20,10 @@ import numpy as np
 
 from ...fe.errors import ReadError
 from ...fe.material import MATERIALS
+from ...fe.units import LENGTH_UNITS
+from ..description import Joint, Link, Region, Robot, Tool
 from ..joints import JointModel
 from ..kinematics import rpy_matrix
-from ..robot import UNITS, Joint, Link, Region, Robot, Tool
 
 __all__ = ["read", "DEFAULT_TORSION", "MIN_REGION_NODES"]
 
@@ -92,7 +93,7 @@ def _count_in(region: Region, mesh: Path | None, units: str) -> int:
         return 0
     import trimesh
 
-    v = np.asarray(trimesh.load(mesh, force="mesh").vertices) * UNITS[units]
+    v = np.asarray(trimesh.load(mesh, force="mesh").vertices) * LENGTH_UNITS[units]
     return int(region.contains(v).sum())
 
 

@@ -2,6 +2,7 @@
 E-model or the flexible arm (with gravity and nonlinear joints) and mode-coupling
 chatter (thesis §2.4.4, §3.4.2, §4.2, §4.4)."""
 
+from ...robot.ik_path import PathIK, ik_conf, ik_path, rapid_conf, tool_frame
 from .ball_bar import (
     CirclePrediction,
     CircleSetup,
@@ -18,7 +19,6 @@ from .chatter import ChatterResult, PlaneModel, analyse, cnc_model, plane_model,
 from .chatter_map import ChatterMap, chatter_map, critical_kcb, recommendation, worst_normal
 from .circle_data import static_circle_readings, synthetic_static_circle, write_circle_csv
 from .circle_models import MODELS, circle_arm, circle_joint_torques, nonlinear_solver
-from .ik_path import PathIK, ik_conf, ik_path, rapid_conf, tool_frame
 from .plane_batch import plane_axes_batched, plane_matrices
 
 __all__ = [

@@ -12,7 +12,7 @@ The deviation of the load point is measured *relative to the unloaded run*:
 nonlinear preload cancel at 0 N, which is zero by definition).  The default solver is
 linear (the TCP compliance at every IK pose, batched); a nonlinear solver with gravity
 plugs in through ``solver=`` (:data:`StaticSolver`;
-:func:`~flexarm.assembly.contact.circle_models.nonlinear_solver`).
+:func:`~flexarm.studies.contact.circle_models.nonlinear_solver`).
 
 Reported per path sample: ``bar`` (the ball-bar reading, ``d . u``, what an ISO 230-4
 polar plot shows), ``radial`` (in-plane radius change about the fitted circle centre;
@@ -28,13 +28,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...assembly.analyses import tcp_compliance
+from ...assembly.system import ArmModel
 from ...fe.geometry import rigid_transport
 from ...fe.typing import ArrayLike, FloatArray
-from ..analyses import tcp_compliance
-from ..kinematics import tcp_frame
-from ..paths import fit_circle, fit_sphere, sample_procedure
-from ..system import ArmModel
-from .ik_path import PathIK, ik_path
+from ...robot.ik_path import PathIK, ik_path
+from ...robot.kinematics import tcp_frame
+from ...robot.paths import fit_circle, fit_sphere, sample_procedure
 
 __all__ = ["StaticSolver", "linear_solver", "CircleSetup", "circle_setup", "rapid_circle",
            "default_pivot", "CirclePrediction", "predict_circle", "load_point_compliance",
@@ -133,7 +133,7 @@ def circle_setup(robot, path, confs=None, pivot: ArrayLike | None = None,
     path : SampledPath
         Load-point path in the base frame [mm].
     confs : (n_motions, 4) int, optional
-        RAPID configurations (see :func:`~flexarm.assembly.contact.ik_path.ik_path`).
+        RAPID configurations (see :func:`~flexarm.robot.ik_path.ik_path`).
     pivot : (3,) float, optional
         Bar pivot [m]; by default a sphere fit of the path, or the circle centre when
         the path is planar.
@@ -197,8 +197,8 @@ def rapid_circle(robot, module, name: str, pivot: ArrayLike | None = None, tool=
     Examples
     --------
     >>> from importlib.resources import files
-    >>> from flexarm.assembly.formats.rapid import read_rapid
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.formats.rapid import read_rapid
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> mod = read_rapid(files("flexarm") / "data/rapid/ldbb_thesis.mod")
     >>> s = rapid_circle(load_demo_robot(), mod, "Path_40", step_mm=20)
     >>> round(float(s.bar_length.mean()) * 1e3, 2), round(s.radius * 1e3, 3)

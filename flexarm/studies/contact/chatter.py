@@ -36,11 +36,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...fe.tolerances import tol
+from ...assembly.analyses import modes, tcp_compliance
+from ...assembly.system import ArmModel
 from ...fe.typing import ArrayLike, FloatArray
-from ..analyses import modes, tcp_compliance
-from ..kinematics import tcp_frame
-from ..system import ArmModel
+from ...robot.kinematics import tcp_frame
+from ..tolerances import tol
 
 __all__ = ["PlaneModel", "plane_axes", "plane_model", "cnc_model", "process_vectors",
            "char_poly", "hurwitz", "is_stable", "growth_rate", "flutter_discriminant",
@@ -105,7 +105,7 @@ def plane_model(arm: ArmModel, q: ArrayLike, axes: ArrayLike | None = None) -> P
 
     Examples
     --------
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> from flexarm.assembly import emodel
     >>> r = load_demo_robot()
     >>> pm = plane_model(emodel(r, method="surface"), r.pose("P1"))

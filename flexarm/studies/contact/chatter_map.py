@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...fe.tolerances import tol
+from ...assembly.system import ArmModel
 from ...fe.typing import ArrayLike, FloatArray
-from ..system import ArmModel
+from ..tolerances import tol
 from .chatter import char_poly, is_stable, process_vectors
 from .plane_batch import plane_matrices
 
@@ -76,7 +76,7 @@ def critical_kcb(M: ArrayLike, C: ArrayLike, K: ArrayLike, n: ArrayLike,
 
     Examples
     --------
-    >>> from flexarm.assembly.contact.chatter import cnc_model, process_vectors
+    >>> from flexarm.studies.contact.chatter import cnc_model, process_vectors
     >>> m = cnc_model([1e5, 1.3e5], 50.0, 0.01)
     >>> n, f = process_vectors(-20.0, 30.0)  # weak axis e1 between normal and force
     >>> bool(0 < critical_kcb(m.M, m.C, m.K, n, f) < 1e6)
@@ -165,8 +165,8 @@ def chatter_map(arm: ArmModel, q_fixed: ArrayLike, q2: ArrayLike, q3: ArrayLike,
     ``normal_deg`` None: the worst surface orientation in the plane (:func:`worst_normal`).
     ``axes`` (2, 3): a fixed machining plane in the base frame; None: the plane normal
     to the tool axis at each pose.  The 2-DOF structures come from
-    :func:`~flexarm.assembly.contact.chatter.plane_model`, computed for all poses at once
-    (:func:`~flexarm.assembly.contact.plane_batch.plane_matrices`: one batched assembly
+    :func:`~flexarm.studies.contact.chatter.plane_model`, computed for all poses at once
+    (:func:`~flexarm.studies.contact.plane_batch.plane_matrices`: one batched assembly
     and eigen-solve), and so are the stability limits.
     """
     q2 = np.asarray(q2, dtype=float)

@@ -11,7 +11,7 @@ its commanded position, relative to the series' first row, the **reference readi
   (:func:`static_circle_readings`);
 * every series gets its load level (the largest ``|f|`` of its rows); the reference
   row of a loaded series is dropped (it is an unloaded reading);
-* :func:`~flexarm.assembly.contact.ball_bar.measured_deviation` then subtracts the
+* :func:`~flexarm.studies.contact.ball_bar.measured_deviation` then subtracts the
   0-N series (interpolated at the same angle), so the overlay is ``d(F) - d(0)``,
   the definition the prediction uses, and gravity sag and the unknown reference
   offset (common to all series) cancel.
@@ -27,11 +27,11 @@ from dataclasses import replace
 
 import numpy as np
 
+from ...assembly.analyses import GRAVITY, gravity_sag
+from ...assembly.statics import series_starts
+from ...assembly.system import ArmModel
 from ...fe.typing import ArrayLike, FloatArray
-from ..analyses import GRAVITY, gravity_sag
-from ..kinematics import tcp_frame
-from ..statics import series_starts
-from ..system import ArmModel
+from ...robot.kinematics import tcp_frame
 from .ball_bar import CircleSetup, StaticSolver, _transfer, predict_circle
 
 __all__ = ["static_circle_readings", "synthetic_static_circle", "write_circle_csv"]
@@ -114,7 +114,7 @@ def synthetic_static_circle(arm: ArmModel, setup: CircleSetup, loads: ArrayLike,
     seed : int
         Seed of ``numpy.random.default_rng``.
     solver : StaticSolver, optional
-        See :func:`~flexarm.assembly.contact.ball_bar.predict_circle`.
+        See :func:`~flexarm.studies.contact.ball_bar.predict_circle`.
 
     Returns
     -------

@@ -5,7 +5,7 @@ links), ``"cb"`` or ``"guyan"`` (links as superelements, :func:`~flexarm.assembl
 flexible.flexible_arm`).  Both are :class:`~flexarm.assembly.system.ArmModel` s with
 the same kinematics, joints and base, so they differ only in link flexibility.
 
-:func:`nonlinear_solver` is a :data:`~flexarm.assembly.contact.ball_bar.StaticSolver`
+:func:`nonlinear_solver` is a :data:`~flexarm.studies.contact.ball_bar.StaticSolver`
 with gravity and nonlinear joint laws (backlash, hardening, hysteresis of
 :mod:`flexarm.assembly.nonlinear`).  The joint torque ``tau_j`` about each joint axis
 is statically exact (:func:`~flexarm.assembly.statics.joint_moments`: the weight of
@@ -25,10 +25,10 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from ...assembly.statics import joint_moments
+from ...assembly.system import ArmModel
 from ...fe.typing import FloatArray
-from ..kinematics import jacobian
-from ..statics import joint_moments
-from ..system import ArmModel
+from ...robot.kinematics import jacobian
 from .ball_bar import StaticSolver, linear_solver
 
 __all__ = ["MODELS", "circle_arm", "nonlinear_solver", "circle_joint_torques"]
@@ -57,7 +57,7 @@ def circle_arm(robot, model: str = "emodel", mass: str = "surface",
 
     Examples
     --------
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> circle_arm(load_demo_robot(), "emodel").chain.n_joints
     6
     """
@@ -66,11 +66,11 @@ def circle_arm(robot, model: str = "emodel", mass: str = "surface",
     size = robot.options.mesh_size if mesh_size is None else float(mesh_size)
     log.info("circle arm: %s (mesh %.3f m)", model, size)
     if model == "emodel":
-        from ..emodel import emodel
+        from ...assembly.emodel import emodel
 
         return emodel(robot, method=mass, mesh_size=size)
-    from ..build import BuildOptions
-    from ..flexible import flexible_arm
+    from ...assembly.build import BuildOptions
+    from ...assembly.flexible import flexible_arm
 
     return flexible_arm(robot, BuildOptions(model, n_modes, "rbe2", size))
 
@@ -109,7 +109,7 @@ def nonlinear_solver(laws: Mapping[int, Sequence] | None, gravity: bool = True) 
     Parameters
     ----------
     laws : mapping joint index -> sequence of laws
-        E.g. the second result of :func:`flexarm.validation.effects.apply_effects`;
+        E.g. the second result of :func:`flexarm.assembly.effects.apply_effects`;
         each law has ``deflection(tau (..., n)) -> (..., n)`` [rad] with the torque
         history on the last axis (here: along the path).
     gravity : bool

@@ -1,6 +1,6 @@
 """The 2-DOF machining-plane structure of :func:`.chatter.plane_model` at many poses at once.
 
-Same definitions as :func:`~flexarm.assembly.contact.chatter.plane_model` (condensed
+Same definitions as :func:`~flexarm.studies.contact.chatter.plane_model` (condensed
 static stiffness ``K = (P^T C P)^-1``; mass and damping from the two dominant modes),
 but every step is batched over the poses: one batched assembly
 (:func:`~flexarm.assembly.system.system_matrices`), one batched generalized
@@ -16,11 +16,11 @@ import logging
 
 import numpy as np
 
-from ...fe.tolerances import tol
+from ...assembly.analyses import tcp_compliance
+from ...assembly.system import ArmModel, system_matrices
 from ...fe.typing import ArrayLike, FloatArray
-from ..analyses import tcp_compliance
-from ..kinematics import tcp_frame
-from ..system import ArmModel, system_matrices
+from ...robot.kinematics import tcp_frame
+from ..tolerances import tol
 
 __all__ = ["plane_axes_batched", "plane_matrices"]
 
@@ -87,7 +87,7 @@ def plane_matrices(arm: ArmModel, q: ArrayLike, axes: ArrayLike | None = None,
 
     Examples
     --------
-    >>> from flexarm.meshes.demo_arm import load_demo_robot
+    >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> from flexarm.assembly import emodel
     >>> r = load_demo_robot()
     >>> M, C, K, P = plane_matrices(emodel(r, method="surface"), [r.pose("P1"), r.pose("P2")])

@@ -69,7 +69,7 @@ def plot_circle_polar(pred: CirclePrediction, path, measured=None, label: str = 
 
     The radius axis is ``offset + deviation`` so that negative values stay visible;
     ``measured`` = (angle [rad], bar [m], normal [m], force [N]) from
-    :func:`~flexarm.assembly.contact.ball_bar.measured_deviation`, drawn as dots
+    :func:`~flexarm.studies.contact.ball_bar.measured_deviation`, drawn as dots
     (coloured by force).  ``compare`` as in :func:`plot_circle_top`.
     """
     plt = pyplot()

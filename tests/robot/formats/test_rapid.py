@@ -8,7 +8,8 @@ from importlib.resources import files
 import numpy as np
 import pytest
 
-from flexarm.assembly.formats.rapid import (
+from flexarm.fe.errors import ReadError
+from flexarm.robot.formats.rapid import (
     EXTAX_UNUSED,
     JointTarget,
     RobTarget,
@@ -17,7 +18,6 @@ from flexarm.assembly.formats.rapid import (
     read_rapid,
     write_rapid,
 )
-from flexarm.fe.errors import ReadError
 
 THESIS = files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod"
 TARGET_NAMES = ["Target_50", "Target_20", "Target_60", "Target_40"] + [
@@ -102,7 +102,7 @@ def test_thesis_configuration_data(thesis):
                              "wrist_in_front_of_lower_arm": False, "axis5_positive": True}
     # cf1 is the quadrant of axis 1 = direction of the wrist centre, 135 mm behind the
     # flange (tool0) along its z axis
-    from flexarm.assembly.paths import quat_to_matrix
+    from flexarm.robot.paths import quat_to_matrix
 
     for name in ["Target_50", "Target_20", "Target_60", "Target_40"] + [
             f"Target_{k}" for k in range(70, 211, 10)]:
@@ -192,7 +192,7 @@ ENDMODULE
     # RelTool: displacement along the tool z axis, which points down for q = [0,0,1,0]
     rel = motions[2].to_point
     assert np.allclose(rel.pos_mm, [1000, 0, 490], atol=1e-12)
-    from flexarm.assembly.paths import quat_to_matrix
+    from flexarm.robot.paths import quat_to_matrix
 
     R = quat_to_matrix(rel.quat)
     assert np.allclose(R[:, 2], [0, 0, -1], atol=1e-12)  # still pointing down

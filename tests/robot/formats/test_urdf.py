@@ -8,9 +8,9 @@ import pytest
 
 from flexarm.assembly.analyses import modes
 from flexarm.assembly.emodel import emodel
-from flexarm.assembly.formats import toml as robot_toml
-from flexarm.assembly.formats import urdf
-from flexarm.meshes.demo_arm import demo_robot_path
+from flexarm.robot.demo_arm import demo_robot_path
+from flexarm.robot.formats import toml as robot_toml
+from flexarm.robot.formats import urdf
 
 IRB = Path(__file__).resolve().parents[3] / "shared" / "data" / "irb4600"
 IRB_URDF = IRB / "urdf" / "irb4600_60_205.urdf"

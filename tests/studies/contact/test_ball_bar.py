@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from flexarm.assembly.contact.ball_bar import (
+from flexarm.studies.contact.ball_bar import (
     load_point_compliance,
     measured_deviation,
     predict_circle,

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from flexarm.assembly.analyses import modes, tcp_compliance
-from flexarm.assembly.contact.chatter import (
+from flexarm.studies.contact.chatter import (
     analyse,
     char_poly,
     cnc_model,
@@ -12,7 +12,7 @@ from flexarm.assembly.contact.chatter import (
     process_vectors,
     simulate,
 )
-from flexarm.assembly.contact.chatter_map import critical_kcb
+from flexarm.studies.contact.chatter_map import critical_kcb
 
 
 def _random_system(rng):

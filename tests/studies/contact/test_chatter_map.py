@@ -1,7 +1,7 @@
 import numpy as np
 
-from flexarm.assembly.contact.chatter import analyse, cnc_model, plane_model, process_vectors
-from flexarm.assembly.contact.chatter_map import (
+from flexarm.studies.contact.chatter import analyse, cnc_model, plane_model, process_vectors
+from flexarm.studies.contact.chatter_map import (
     chatter_map,
     critical_kcb,
     recommendation,
@@ -54,8 +54,8 @@ def test_map_and_recommendation(arm, robot):
 
 
 def test_batched_plane_matrices_equal_the_per_pose_model(robot, arm):
-    from flexarm.assembly.contact.chatter import plane_model
-    from flexarm.assembly.contact.plane_batch import plane_matrices
+    from flexarm.studies.contact.chatter import plane_model
+    from flexarm.studies.contact.plane_batch import plane_matrices
 
     rng = np.random.default_rng(3)
     Q = robot.lower + (robot.upper - robot.lower) * rng.random((12, 6))
@@ -69,7 +69,7 @@ def test_batched_plane_matrices_equal_the_per_pose_model(robot, arm):
 
 
 def test_cubic_roots_degenerate_leading_term():
-    from flexarm.assembly.contact.chatter_map import _cubic_roots
+    from flexarm.studies.contact.chatter_map import _cubic_roots
 
     c = np.array([[0.0, 1.0, -3.0, 2.0], [0.0, 0.0, 2.0, -4.0], [1.0, -6.0, 11.0, -6.0]])
     r = _cubic_roots(c)

@@ -3,8 +3,8 @@ from importlib.resources import files
 import numpy as np
 import pytest
 
-from flexarm.assembly.contact.ball_bar import measured_deviation, predict_circle, rapid_circle
-from flexarm.assembly.contact.circle_data import static_circle_readings, synthetic_static_circle
+from flexarm.studies.contact.ball_bar import measured_deviation, predict_circle, rapid_circle
+from flexarm.studies.contact.circle_data import static_circle_readings, synthetic_static_circle
 from flexarm.validation import read_measurements
 from flexarm.validation.formats import write_static
 from flexarm.validation.measurements import StaticData

@@ -1,20 +1,20 @@
 import numpy as np
 import pytest
 
-from flexarm.assembly.contact.ball_bar import (
+from flexarm.assembly.nonlinear import Backlash, Hysteresis
+from flexarm.robot.kinematics import jacobian, tcp_frame
+from flexarm.studies.contact.ball_bar import (
     _transfer,
     linear_solver,
     load_point_compliance,
     predict_circle,
     rapid_circle,
 )
-from flexarm.assembly.contact.circle_models import (
+from flexarm.studies.contact.circle_models import (
     circle_arm,
     circle_joint_torques,
     nonlinear_solver,
 )
-from flexarm.assembly.kinematics import jacobian, tcp_frame
-from flexarm.assembly.nonlinear import Backlash, Hysteresis
 
 
 @pytest.fixture(scope="module")

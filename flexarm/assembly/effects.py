@@ -1,0 +1,111 @@
+"""How named effects (:mod:`flexarm.robot.effects`) change an arm model.
+
+:func:`apply_effects` turns an :class:`~flexarm.assembly.system.ArmModel` plus effects
+into a new arm (the linear effects: torsion scale, bearing tilt, foundation, coupled
+wrist) and a map joint -> nonlinear laws (:mod:`flexarm.assembly.nonlinear`).  The
+``links`` effect changes the bodies and needs the flexible model
+(:func:`~flexarm.assembly.linkflex.links_arm`); it is left to the caller.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..robot.effects import Effect
+from .nonlinear import Backlash, Hardening, Hysteresis
+from .system import ArmModel
+from .tolerances import tol
+
+__all__ = ["apply_effects", "resolve", "wrist_compliance", "SignedLaw"]
+
+
+def resolve(effect: Effect, arm: ArmModel) -> Effect:
+    """Convert relative command-line parameters (ratios, stiffnesses) to the SI model form."""
+    e = effect
+    if e.kind == "hardening" and "ratio" in dict(e.params):
+        k2 = arm.joints[e.joint].torsion
+        return Effect(e.kind, e.joint, (("extra", 1 / (e.get("ratio") * k2) - 1 / k2),
+                                        ("threshold", e.get("threshold"))))
+    if e.kind in ("tilt", "base") and "stiffness" in dict(e.params):
+        return Effect(e.kind, e.joint, (("compliance", 1 / e.get("stiffness")),))
+    if e.kind == "wrist" and any(k.startswith("rho") for k, _ in e.params):
+        c = np.diag(wrist_compliance(arm))
+        idx = {"45": (0, 1), "46": (0, 2), "56": (1, 2)}
+        return Effect(e.kind, None, tuple(
+            (f"c{k[3:]}", v * float(np.sqrt(c[idx[k[3:]][0]] * c[idx[k[3:]][1]])))
+            for k, v in e.params))
+    return e
+
+
+def wrist_compliance(arm: ArmModel) -> np.ndarray:
+    """(3, 3) joint-space torsion compliance of the last three joints [rad/(N m)]."""
+    n = arm.chain.n_joints
+    if arm.wrist_stiffness is not None:
+        return np.linalg.inv(np.asarray(arm.wrist_stiffness, dtype=float))
+    return np.diag([1.0 / arm.joints[j].torsion for j in range(n - 3, n)])
+
+
+@dataclass(frozen=True)
+class SignedLaw:
+    """A law with a signed amplitude (fits may pass through negative values)."""
+
+    law: object
+    amplitude: float
+
+    def deflection(self, tau):
+        return self.amplitude * self.law.shape(tau)
+
+
+def _signed(cls, amplitude: float, *args):
+    return cls(amplitude, *args) if amplitude >= 0 else SignedLaw(cls(0.0, *args), amplitude)
+
+
+def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
+    """New arm with the linear effects, and the nonlinear laws per joint index."""
+    joints = list(arm.joints)
+    foundation = None if arm.foundation is None else np.array(arm.foundation, float)
+    Cw = wrist_compliance(arm)
+    wrist_changed = arm.wrist_stiffness is not None
+    laws: dict[int, list] = {}
+    n = arm.chain.n_joints
+    for e in (resolve(e, arm) for e in effects):
+        j = e.joint
+        if e.kind == "stiffness":
+            s = max(e.get("scale"), tol.min_compliance_scale)  # a fit may probe s <= 0
+            joints[j] = replace(joints[j], torsion=joints[j].torsion / s)
+            if j >= n - 3:
+                k = j - (n - 3)
+                Cw[k, :] *= np.sqrt(s)
+                Cw[:, k] *= np.sqrt(s)
+        elif e.kind == "backlash":
+            laws.setdefault(j, []).append(_signed(Backlash, e.get("width")))
+        elif e.kind == "hardening":
+            laws.setdefault(j, []).append(Hardening(e.get("threshold"), e.get("extra")))
+        elif e.kind == "hysteresis":
+            laws.setdefault(j, []).append(_signed(Hysteresis, e.get("lost"), e.get("radius")))
+        elif e.kind == "tilt":
+            jt = joints[j]
+            c1, c2 = (1.0 / jt.tilt + e.get("compliance"), 1.0 / jt.tilt_2 + e.get("compliance"))
+            ok = c1 > 0 and c2 > 0  # a negative total compliance (during a fit) -> rigid
+            joints[j] = replace(jt, tilt=1.0 / c1 if ok else np.inf,
+                                tilt2=None if jt.tilt2 is None else (1.0 / c2 if ok else np.inf))
+        elif e.kind == "base":
+            c = e.get("compliance")
+            if c <= 0:  # no foundation spring of negative compliance (a fit may probe one)
+                continue
+            Kf = np.diag([tol.rigid_foundation] * 3 + [1 / c, 1 / c, tol.rigid_foundation])
+            foundation = Kf if foundation is None else np.linalg.inv(
+                np.linalg.inv(foundation) + np.linalg.inv(Kf))
+        elif e.kind == "wrist":
+            for key, (a, b) in (("c45", (0, 1)), ("c46", (0, 2)), ("c56", (1, 2))):
+                v = e.get(key, 0.0)
+                Cw[a, b] += v
+                Cw[b, a] += v
+            wrist_changed = True
+        # "links" changes the bodies: linkflex.links_arm, applied by the caller
+    wrist = np.linalg.inv(Cw) if wrist_changed else None
+    new = replace(arm, joints=tuple(joints), foundation=foundation, wrist_stiffness=wrist)
+    new.__dict__.pop("_layout", None)
+    return new, laws

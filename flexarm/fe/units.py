@@ -1,0 +1,23 @@
+"""Length units of CAD files and robot descriptions (the ``units`` setting)."""
+
+from __future__ import annotations
+
+__all__ = ["LENGTH_UNITS", "length_factor"]
+
+#: unit name -> metres per unit
+LENGTH_UNITS: dict[str, float] = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "in": 0.0254}
+
+
+def length_factor(units: str) -> float:
+    """Metres per ``units`` (``"m"``, ``"mm"``, ``"cm"``, ``"in"``).
+
+    Examples
+    --------
+    >>> length_factor("mm")
+    0.001
+    """
+    try:
+        return LENGTH_UNITS[units]
+    except KeyError:
+        raise ValueError(f"unknown units {units!r}; expected one of "
+                         f"{', '.join(map(repr, LENGTH_UNITS))}") from None

@@ -1,0 +1,141 @@
+"""Named physical effects of a robot's joints, base and links, as data.
+
+An :class:`Effect` is a kind, an optional joint and named parameters in SI units:
+
+================  ==========================================  ============================
+kind              parameters                                  model
+================  ==========================================  ============================
+``stiffness``     ``scale`` [-]                               torsion compliance x scale
+``backlash``      ``width`` [rad]                             dead band
+``hardening``     ``extra`` [rad/(N m)], ``threshold`` [N m]  softer below the threshold
+``hysteresis``    ``lost`` [rad], ``radius`` [N m]            lost motion, rounded
+``tilt``          ``compliance`` [rad/(N m)]                  bearing tilt in series
+``base``          ``compliance`` [rad/(N m)]                  foundation tilt about x, y
+``wrist``         ``c45``, ``c46``, ``c56`` [rad/(N m)]       coupled wrist compliance
+``links``         ``compliance`` [-]                          link flexibility
+================  ==========================================  ============================
+
+:func:`parse_effect` reads the command-line form ``backlash:j2=0.1mrad``,
+``hardening:j1=0.5,t=400Nm`` (``K1/K2 = 0.5`` below 400 N m), ``hysteresis:j2=0.1mrad,r=300Nm``,
+``tilt:j2=1e7`` (added tilt stiffness [N m/rad]), ``base:k=2e7`` (foundation tilt stiffness
+[N m/rad]), ``wrist:c45=0.5,c56=0.3`` (correlations of the wrist compliances),
+``stiffness:j3=1.3`` (torsion *stiffness* x 1.3) and ``links:c=1`` (the flexible model's
+links).  How an effect changes an arm model is :mod:`flexarm.assembly.effects`.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+__all__ = ["Effect", "parse_effect", "KINDS", "NONLINEAR"]
+
+#: Effects that make a joint law nonlinear (the robot file's ``[nonlinear]`` table).
+NONLINEAR = ("backlash", "hardening", "hysteresis")
+KINDS = ("stiffness", "backlash", "hardening", "hysteresis", "tilt", "base", "wrist", "links")
+_UNITS = {"": 1.0, "rad": 1.0, "mrad": 1e-3, "urad": 1e-6, "nm": 1.0, "knm": 1e3,
+          "nm/rad": 1.0, "deg": np.pi / 180}
+
+
+@dataclass(frozen=True)
+class Effect:
+    """One physical effect: ``kind``, 0-based ``joint`` (or None), SI ``params``.
+
+    Examples
+    --------
+    >>> e = Effect("backlash", 1, (("width", 1e-4),))
+    >>> e.label, e.get("width")
+    ('joint 2 backlash', 0.0001)
+    """
+
+    kind: str
+    joint: int | None = None
+    params: tuple[tuple[str, float], ...] = ()
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ValueError(f"unknown effect kind '{self.kind}' (known: {', '.join(KINDS)})")
+
+    def get(self, name: str, default: float | None = None) -> float:
+        for k, v in self.params:
+            if k == name:
+                return float(v)
+        if default is None:
+            raise KeyError(f"effect {self.kind} has no parameter '{name}'")
+        return default
+
+    def with_params(self, **values: float) -> Effect:
+        d = dict(self.params)
+        d.update({k: float(v) for k, v in values.items()})
+        return replace(self, params=tuple(d.items()))
+
+    @property
+    def label(self) -> str:
+        """Short human label, e.g. ``joint 2 backlash``."""
+        return self.kind if self.joint is None else f"joint {self.joint + 1} {self.kind}"
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "joint": self.joint, "params": dict(self.params)}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> Effect:
+        return cls(d["kind"], d.get("joint"), tuple((k, float(v))
+                                                    for k, v in d.get("params", {}).items()))
+
+
+def _value(text: str) -> float:
+    m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([A-Za-z/]*)\s*", text)
+    if not m or m.group(2).lower() not in _UNITS:
+        raise ValueError(f"cannot read value '{text}' (number with unit among "
+                         f"{sorted(u for u in _UNITS if u)})")
+    return float(m.group(1)) * _UNITS[m.group(2).lower()]
+
+
+def parse_effect(spec: str, n_joints: int = 6) -> Effect:
+    """Effect from its command-line form (see the module docstring).
+
+    Examples
+    --------
+    >>> parse_effect("backlash:j2=0.1mrad")
+    Effect(kind='backlash', joint=1, params=(('width', 0.0001),))
+    """
+    if ":" not in spec:
+        raise ValueError(f"effect '{spec}': expected KIND:KEY=VALUE[,KEY=VALUE]")
+    kind, rest = spec.split(":", 1)
+    kind = kind.strip().lower()
+    items = {}
+    for part in rest.split(","):
+        if "=" not in part:
+            raise ValueError(f"effect '{spec}': '{part}' is not KEY=VALUE")
+        k, v = part.split("=", 1)
+        items[k.strip().lower()] = v.strip()
+    joint, amount = None, None
+    for k in list(items):
+        if re.fullmatch(r"j\d+", k):
+            joint = int(k[1:]) - 1
+            if not 0 <= joint < n_joints:
+                raise ValueError(f"effect '{spec}': joint {joint + 1} outside 1..{n_joints}")
+            amount = _value(items.pop(k))
+    needs_joint = kind in ("stiffness", "backlash", "hardening", "hysteresis", "tilt")
+    if needs_joint and joint is None:
+        raise ValueError(f"effect '{spec}': name the joint, e.g. {kind}:j2=...")
+    if kind == "stiffness":
+        return Effect(kind, joint, (("scale", 1.0 / amount),))
+    if kind == "backlash":
+        return Effect(kind, joint, (("width", amount),))
+    if kind == "hysteresis":
+        return Effect(kind, joint, (("lost", amount), ("radius", _value(items.get("r", "300")))))
+    if kind in ("hardening", "tilt"):
+        return Effect(kind, joint, (("ratio" if kind == "hardening" else "stiffness", amount),)
+                      + ((("threshold", _value(items.get("t", "400"))),)
+                         if kind == "hardening" else ()))
+    if kind == "base":
+        return Effect(kind, None, (("stiffness", _value(items.get("k", "2e7"))),))
+    if kind == "links":
+        return Effect(kind, None, (("compliance", _value(items.get("c", "1"))),))
+    if kind == "wrist":
+        return Effect(kind, None, tuple((f"rho{k[1:]}", _value(v)) for k, v in items.items()
+                                        if k in ("c45", "c46", "c56")))
+    raise ValueError(f"unknown effect kind '{kind}' (known: {', '.join(KINDS)})")

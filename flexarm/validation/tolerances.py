@@ -1,0 +1,51 @@
+"""Rules and tolerances of the validation layer: noise defaults, acceptance tests of the
+diagnosis, plausibility limits.
+
+Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
+``dataclasses.replace``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Tolerances", "tol"]
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    #: Default standard uncertainty of a tracker reading [m] (Leica AT960 in the thesis).
+    tracker_sigma: float = 15e-6
+    #: Accept a candidate effect only if its BIC improves by more than this.
+    delta_bic_accept: float = 10.0
+    #: Two-sided coverage of the chi^2_red band and of parameter intervals.
+    chi2_band_coverage: float = 0.99
+    interval_z: float = 1.96
+    #: A candidate whose signature (at its typical size) moves the whitened data by less
+    #: than this norm [-] (in units of the noise) is untestable with the data.
+    untestable_norm: float = 1.0
+    #: Share of a candidate's signature the current model cannot mimic, below which it is
+    #: aliased with the current model's parameters.
+    alias_share: float = 0.05
+    #: |correlation| of two candidates' unique signatures above which they are aliased.
+    alias_correlation: float = 0.95
+    #: Held-out RMS must fall below this fraction of the current model's held-out RMS.
+    heldout_gain: float = 0.995
+    #: Number of held-out folds (series assigned round-robin).
+    cv_folds: int = 3
+    #: Prior standard deviation of the baseline compliance scale factors [-] (weak).
+    baseline_prior_sd: float = 1.0
+    #: Relative finite-difference step of model sensitivities.
+    fd_step: float = 1e-4
+    #: Largest plausible backlash / lost motion [rad].
+    max_backlash: float = 5e-3
+    #: Relative standard uncertainty of a measured natural frequency [-] (modal tests).
+    freq_noise: float = 0.005
+    #: Largest plausible link compliance factor vs the CAD flexible model [-].
+    max_link_compliance: float = 5.0
+    #: A winner is only a proxy of an aliased candidate that gains more on the residual
+    #: when their unique signatures correlate above this [-] (then it is not accepted).
+    proxy_correlation: float = 0.5
+
+
+tol = Tolerances()
