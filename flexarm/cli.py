@@ -442,18 +442,18 @@ def _run_reduce(args) -> int:
     formats.write(args.output, se, args.format)
     _print(f"{args.mesh}: {mesh.n_tets} Tet{4 if mesh.order == 1 else 10}, material "
            f"{material.name}, mass {se.mass:.6g} kg, COM {np.round(se.center_of_mass, 6)} m")
-    _print(_table(["", "DOF"], [["full FE model", st["n_full"]],
-                                ["coupled", st["n_coupled"]],
-                                ["superelement", st["n_reduced"]]]))
+    _print(_table(["", "DOF"], [["full FE model", st.n_full],
+                                ["coupled", st.n_coupled],
+                                ["superelement", st.n_reduced]]))
     _print(_table(["interface", "region nodes", "position [m]"],
-                  [[n, st["region_nodes"][n], np.array2string(p, precision=4)]
+                  [[n, st.region_nodes[n], np.array2string(p, precision=4)]
                    for n, p in zip(se.interface_names, se.interface_positions, strict=True)]))
     if se.n_modes:
         _print(_table(["mode", "fixed-interface freq [Hz]"],
                       [[i + 1, float(f)] for i, f in enumerate(se.freq_hz)]))
     steps = [k for k in ("assemble_couple", "factorise", "constraint_modes", "eigen", "projection",
-                         "total") if k in st]
-    _print(_table(["step", "time [s]"], [[k, float(st[k])] for k in steps], "{:.3f}"))
+                         "total") if k in st.seconds]
+    _print(_table(["step", "time [s]"], [[k, float(st.seconds[k])] for k in steps], "{:.3f}"))
     _print(f"wrote {args.output}")
     return 0
 

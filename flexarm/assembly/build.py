@@ -9,10 +9,10 @@ For every link the interface regions are taken from its description in a fixed o
 2. the ``"tcp"`` region on the TCP link when ``tcp="region"``; with ``tcp="rigid"``
    the TCP is carried rigidly by the flange's proximal interface node instead.
 
-Every superelement is written to ``cache_dir()/superelements/<key>.h5`` (atomically)
-with a JSON side file of its build statistics; ``key`` is a digest of everything that
-changes the result (surface bytes, units, mesh size, element order, material, regions,
-method, mode count, coupling, :data:`BUILD_VERSION`).
+Every superelement goes into the package cache (:mod:`flexarm.fe.cache`) as
+``superelements/<key>.h5`` with its build statistics as a file attribute; ``key`` covers
+everything that changes the result (the link's solid as its mesher makes it, mesh size,
+element order, material, regions, method, mode count, coupling, :data:`BUILD_VERSION`).
 """
 
 from __future__ import annotations
@@ -27,15 +27,18 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fe.files import atomic_path, cache_dir, digest, file_digest
+from ..fe.cache import Codec, cache_key, cached
+from ..fe.files import digest
 from ..fe.material import Material
 from ..fe.mesh import TetMesh
 from ..reduction import CylinderRegion, Superelement, reduce_with_stats
 from ..reduction.formats import h5
+from ..reduction.tie import tied_superelement
 from ..robot.description import Link, Robot
 
 __all__ = ["BUILD_VERSION", "BuildOptions", "LinkBuild", "link_regions", "link_mesh",
-           "link_material", "build_link", "build_robot", "Mesher"]
+           "link_material", "link_mesh_id", "build_link", "build_robot", "Mesher",
+           "SUPERELEMENT_CODEC"]
 
 log = logging.getLogger(__name__)
 
@@ -66,6 +69,11 @@ class BuildOptions:
         the flange's proximal node (also used when the link has no ``"tcp"`` region).
     stiffness_scale : float
         Factor on Young's modulus [-] (``1e6`` gives the rigid-link limit).
+    masters : int or None
+        Instead of ``coupling``, keep this many seat nodes per interface as 3-DOF masters
+        during the reduction and tie them rigidly to the seat centre afterwards
+        (:func:`~flexarm.reduction.tie.tied_superelement`): a bolt-like seat through
+        ``masters`` points.
     """
 
     method: str = "cb"
@@ -75,6 +83,7 @@ class BuildOptions:
     order: int | None = None
     tcp: str = "region"
     stiffness_scale: float = 1.0
+    masters: int | None = None
 
     def resolved(self, robot: Robot) -> BuildOptions:
         """The options with the robot's defaults filled in (and checked)."""
@@ -86,6 +95,8 @@ class BuildOptions:
             raise ValueError(f"tcp must be region|rigid, got '{self.tcp}'")
         if not self.stiffness_scale > 0:
             raise ValueError(f"stiffness_scale must be > 0, got {self.stiffness_scale}")
+        if self.masters is not None and not int(self.masters) >= 3:
+            raise ValueError(f"masters must be >= 3 seat nodes, got {self.masters}")
         o = robot.options
         n = o.cb_modes if self.n_modes is None else int(self.n_modes)
         return dataclasses.replace(
@@ -97,6 +108,11 @@ class BuildOptions:
     def label(self) -> str:
         """Short name for tables: ``Guyan``, ``CB(10)``."""
         return "Guyan" if self.method == "guyan" else f"CB({self.n_modes})"
+
+    @property
+    def seat(self) -> str:
+        """The interface representation: ``rbe2``, ``rbe3`` or ``k<masters>``."""
+        return self.coupling if self.masters is None else f"k{self.masters}"
 
 
 @dataclass(frozen=True, eq=False)
@@ -117,6 +133,9 @@ class LinkBuild:
     is_cached : bool
     path : Path or None
         The superelement file.
+    build_seconds : float
+        Wall time [s] of the build that made the superelement (also when it is read
+        from the cache: the time that the cache saves).
     """
 
     name: str
@@ -128,6 +147,7 @@ class LinkBuild:
     seconds: float = 0.0
     is_cached: bool = False
     path: Path | None = None
+    build_seconds: float = 0.0
 
     @property
     def freq_hz(self) -> np.ndarray:
@@ -185,19 +205,42 @@ def link_mesh(link: Link, mesh_size: float, order: int = 1, progress=None,
                                    progress=progress)
 
 
-def mesh_identity(link: Link, mesher: str = "tetwild") -> str:
-    """What a link's cached results are keyed by: its CAD file, and the mesher unless
-    it is the default (so existing pytetwild cache entries stay valid)."""
-    return file_digest(link.mesh) if mesher == "tetwild" else digest(file_digest(link.mesh),
-                                                                      mesher)
+def link_mesh_id(link: Link, mesher: str | Mesher = "tetwild", mesh_size: float = 0.0,
+                 order: int = 1) -> str:
+    """What a link's tetrahedra are keyed by in every cache entry computed from them.
+
+    ``mesher`` is the robot's ``model.mesher`` (the CAD file's solid as that mesher makes
+    it, :func:`~flexarm.meshes.solid_key`) or a :data:`Mesher` callable (its mesh of the
+    link at ``mesh_size`` [m] and ``order``, keyed by the node and element arrays).
+    """
+    if callable(mesher):
+        mesh = mesher(link, mesh_size, order)
+        return digest(mesh.points, mesh.tets)
+    from ..meshes import solid_key
+
+    return solid_key(link.mesh, link.units, mesher)
 
 
-def _key(link: Link, names, opts: BuildOptions, mesh_id: str) -> str:
-    regs = [(n, dataclasses.astuple(link.regions[n])) for n in names]
-    mat = link_material(link, opts.stiffness_scale)
-    return digest("flexarm-build", BUILD_VERSION, mesh_id, link.units, opts.mesh_size,
-                  opts.order, (mat.E, mat.nu, mat.rho), repr(regs), opts.method, opts.n_modes,
-                  opts.coupling)
+def _save_build(path: Path, value) -> None:
+    import h5py
+
+    se, stats = value
+    h5.write(path, se)
+    with h5py.File(path, "a") as f:
+        f.attrs["flexarm_build"] = json.dumps(stats)
+
+
+def _load_build(path: Path):
+    import h5py
+
+    se = h5.read(path)
+    with h5py.File(path, "r") as f:
+        return se, json.loads(f.attrs["flexarm_build"])
+
+
+#: A built superelement and its build statistics (``n_tets``, ``n_fe_dofs``, ``seconds``,
+#: ``region_nodes``) in one HDF5 file that every superelement reader opens.
+SUPERELEMENT_CODEC = Codec(".h5", _save_build, _load_build)
 
 
 def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
@@ -225,38 +268,36 @@ def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
     if not names:
         say(f"{lk.name}: rigid (no 'base' region)")
         return LinkBuild(lk.name, None, ())
-    mesh = None
-    if mesher is not None:
-        mesh = mesher(lk, opts.mesh_size, opts.order)
-        mesh_id = digest(mesh.points, mesh.tets)
-    else:
-        mesh_id = mesh_identity(lk, robot.options.mesher)
-    key = _key(lk, names, opts, mesh_id)
-    path = cache_dir() / "superelements" / f"{key}.h5"
-    meta = path.with_suffix(".json")
-    if cache and path.is_file() and meta.is_file():
-        se = h5.read(path)
-        st = json.loads(meta.read_text())
-        say(f"{lk.name}: superelement from cache ({se.n_dofs} DOF)")
-        return LinkBuild(lk.name, se, names, st["n_tets"], st["n_fe_dofs"], se.n_dofs, 0.0,
-                         True, path)
+    mat = link_material(lk, opts.stiffness_scale)
+    key = cache_key("superelements", BUILD_VERSION,
+                    link_mesh_id(lk, mesher or robot.options.mesher, opts.mesh_size, opts.order),
+                    opts.mesh_size, opts.order, (mat.E, mat.nu, mat.rho),
+                    repr([(n, dataclasses.astuple(lk.regions[n])) for n in names]),
+                    opts.method, opts.n_modes, opts.coupling, opts.masters)
     t0 = time.perf_counter()
-    say(f"{lk.name}: meshing (edge {opts.mesh_size * 1e3:.0f} mm)")
-    if mesh is None:
-        mesh = link_mesh(lk, opts.mesh_size, opts.order, mesher=robot.options.mesher)
-    say(f"{lk.name}: reducing {mesh.n_dofs} DOF ({opts.label}, {opts.coupling})")
-    se, st = reduce_with_stats(mesh, link_material(lk, opts.stiffness_scale),
-                               cylinder_regions(lk, names), opts.coupling, opts.method,
-                               opts.n_modes)
-    dt = time.perf_counter() - t0
-    if cache:
-        h5.write(path, se)
-        with atomic_path(meta) as tmp:
-            tmp.write_text(json.dumps({"n_tets": mesh.n_tets, "n_fe_dofs": mesh.n_dofs,
-                                       "seconds": dt, "region_nodes": st["region_nodes"]}))
-    say(f"{lk.name}: {mesh.n_tets} tets, {mesh.n_dofs} -> {se.n_dofs} DOF in {dt:.1f} s")
-    return LinkBuild(lk.name, se, names, mesh.n_tets, mesh.n_dofs, se.n_dofs, dt, False,
-                     path if cache else None)
+
+    def build():
+        say(f"{lk.name}: meshing (edge {opts.mesh_size * 1e3:.0f} mm)")
+        mesh = (mesher(lk, opts.mesh_size, opts.order) if mesher is not None else
+                link_mesh(lk, opts.mesh_size, opts.order, mesher=robot.options.mesher))
+        say(f"{lk.name}: reducing {mesh.n_dofs} DOF ({opts.label}, {opts.seat})")
+        se, st = reduce_with_stats(mesh, mat, cylinder_regions(lk, names),
+                                   "nodes" if opts.masters else opts.coupling, opts.method,
+                                   opts.n_modes, n_masters=opts.masters)
+        if opts.masters:
+            se = tied_superelement(se)
+        dt = time.perf_counter() - t0
+        say(f"{lk.name}: {mesh.n_tets} tets, {mesh.n_dofs} -> {se.n_dofs} DOF in {dt:.1f} s")
+        return se, {"n_tets": mesh.n_tets, "n_fe_dofs": mesh.n_dofs, "seconds": dt,
+                    "region_nodes": st.region_nodes}
+
+    entry = cached("superelements", key, build, SUPERELEMENT_CODEC, enabled=cache)
+    se, st = entry.value
+    if entry.is_hit:
+        say(f"{lk.name}: superelement from cache ({se.n_dofs} DOF)")
+    return LinkBuild(lk.name, se, names, st["n_tets"], st["n_fe_dofs"], se.n_dofs,
+                     0.0 if entry.is_hit else time.perf_counter() - t0, entry.is_hit,
+                     entry.path, float(st["seconds"]))
 
 
 def build_robot(robot: Robot, options: BuildOptions = BuildOptions(), cache: bool = True,

@@ -8,12 +8,12 @@ The flexible arm differs only in replacing these bodies by superelements.
 
 from __future__ import annotations
 
-import json
 import logging
 
 import numpy as np
 
-from ..fe.files import atomic_path, cache_dir, digest
+from ..fe.cache import cache_key, cached
+from ..fe.files import file_digest
 from ..fe.mass_properties import MassProperties, mass_properties
 from ..fe.units import LENGTH_UNITS
 from ..robot.description import Link, Robot
@@ -29,17 +29,21 @@ METHODS = ("tets", "surface")
 
 def _mesh_mass_properties(link: Link, method: str, mesh_size: float,
                           mesher: str = "tetwild") -> MassProperties:
-    """Mass properties of a link's CAD solid, cached on disk by input hash."""
-    from .build import mesh_identity
+    """Mass properties of a link's CAD solid (package cache)."""
+    from .build import link_mesh_id
 
     rho = link.material.rho
-    key = digest("link-mass-properties-v1", mesh_identity(link, mesher), link.units, rho,
-                 method, mesh_size)
-    path = cache_dir() / "mass_properties" / f"{key}.json"
-    if path.is_file():
-        d = json.loads(path.read_text())
-        return MassProperties(d["mass"], np.array(d["center_of_mass"]), np.array(d["inertia"]))
+    solid = link_mesh_id(link, mesher) if method == "tets" else file_digest(link.mesh)
+    key = cache_key("mass-properties", solid, link.units, rho, method,
+                    mesh_size if method == "tets" else None)
+    d = cached("mass-properties", key, lambda: _mass_properties_dict(link, method, mesh_size,
+                                                                       mesher)).value
+    return MassProperties(d["mass"], np.array(d["center_of_mass"]), np.array(d["inertia"]))
+
+
+def _mass_properties_dict(link: Link, method: str, mesh_size: float, mesher: str) -> dict:
     log.info("mass properties of %s (%s)", link.name, method)
+    rho = link.material.rho
     if method == "tets":
         from ..meshes import load_surface, tetrahedralizer
 
@@ -54,11 +58,9 @@ def _mesh_mass_properties(link: Link, method: str, mesh_size: float,
         tm = surface.mass_properties
         mp = MassProperties(rho * float(tm.volume), np.asarray(tm.center_mass),
                             rho * np.asarray(tm.inertia))
-    with atomic_path(path) as tmp:
-        tmp.write_text(json.dumps({"mass": mp.mass, "center_of_mass": mp.center_of_mass.tolist(),
-                                   "inertia": mp.inertia.tolist()}))
     log.info("mass properties of %s done: %.3f kg", link.name, mp.mass)
-    return mp
+    return {"mass": mp.mass, "center_of_mass": mp.center_of_mass.tolist(),
+            "inertia": mp.inertia.tolist()}
 
 
 def link_mass_properties(link: Link, method: str = "tets", mesh_size: float = 0.04,

@@ -1,4 +1,4 @@
-"""Atomic file output and input hashing (shared by every layer's caches and writers)."""
+"""Atomic file output and input hashing (shared by every writer and by the cache)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["atomic_path", "file_digest", "digest", "cache_dir"]
+__all__ = ["atomic_path", "file_digest", "digest"]
 
 
 @contextlib.contextmanager
@@ -68,14 +68,3 @@ def digest(*parts) -> str:
             h.update(repr(p).encode())
         h.update(b"\x00")
     return h.hexdigest()
-
-
-def cache_dir() -> Path:
-    """Folder for expensive cached results (tet meshes, superelements).
-
-    ``$FLEXARM_CACHE`` if set, else ``~/.cache/flexarm``.
-    """
-    env = os.environ.get("FLEXARM_CACHE")
-    path = Path(env) if env else Path.home() / ".cache" / "flexarm"
-    path.mkdir(parents=True, exist_ok=True)
-    return path

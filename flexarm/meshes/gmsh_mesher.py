@@ -46,7 +46,7 @@ import numpy as np
 
 from ..fe.errors import MeshError
 from ..fe.mesh import TetMesh
-from ..fe.tolerances import tol
+from ..fe.tolerances import tol as fe_tol
 from .gmsh_model import (
     _OPTIMIZE_OPTIONS,
     _SIZE_OPTION,
@@ -65,6 +65,7 @@ from .gmsh_model import (
 from .quality import dihedral_angles
 from .tet_cache import cached_tetrahedralization
 from .tetwild import _compact
+from .tolerances import tol
 
 __all__ = [
     "tetrahedralize_gmsh",
@@ -182,7 +183,7 @@ def _defects(mesh: TetMesh) -> tuple[str | None, int, float]:
     """(why the mesh is unusable or None, number of slivers, smallest dihedral [deg])."""
     vol = mesh.volumes()
     scale = np.abs(vol).mean()
-    n_flat = int((np.abs(vol) <= tol.degenerate_volume * scale).sum())
+    n_flat = int((np.abs(vol) <= fe_tol.degenerate_volume * scale).sum())
     angles = dihedral_angles(mesh.points, mesh.tets).min(axis=1)
     n_slivers = int((angles < tol.sliver_dihedral_deg).sum())
     problem = f"{n_flat} zero-volume tetrahedra" if n_flat else None
@@ -217,7 +218,7 @@ def tetrahedralize_gmsh(
     order : {1, 2}
         Tet4, or Tet10 with straight mid-edge nodes.
     cache : bool
-        Reuse / store the result in ``cache_dir()/tets``; the key holds the Gmsh
+        Reuse / store the result in the package cache (``tets``); the key holds the Gmsh
         version and :func:`gmsh_settings`, never shared with pytetwild's entries.
     name : str
         What to call the part in messages (e.g. the file name).

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..fe.mesh import TetMesh
-from ..fe.tolerances import tol
+from .tolerances import tol
 
 __all__ = ["QualityReport", "mesh_quality", "dihedral_angles", "radius_ratios"]
 

@@ -13,7 +13,8 @@ import numpy as np
 import trimesh
 
 from ..fe.errors import MeshError
-from ..fe.tolerances import tol
+from ..fe.tolerances import tol as fe_tol
+from .tolerances import tol
 
 __all__ = ["repair_surface", "check_surface", "merge_digits"]
 
@@ -21,20 +22,20 @@ logger = logging.getLogger(__name__)
 
 
 def merge_digits() -> int:
-    """Decimal digits [m] that trimesh rounds vertices to when merging (from ``tol.point_merge``).
+    """Decimal digits [m] that trimesh rounds vertices to when merging (``point_merge`` of fe).
 
     Examples
     --------
     >>> merge_digits()
     9
     """
-    return int(round(-np.log10(tol.point_merge)))
+    return int(round(-np.log10(fe_tol.point_merge)))
 
 
 def repair_surface(surface: trimesh.Trimesh) -> tuple[trimesh.Trimesh, tuple[str, ...]]:
     """Repaired copy of a triangle surface and a note for each repair made.
 
-    In order: merge coincident vertices (within ``tol.point_merge`` [m]), drop
+    In order: merge coincident vertices (within ``fe_tol.point_merge`` [m]), drop
     degenerate and duplicate faces and unused vertices, fill small holes, make the
     winding consistent and turn inward-pointing normals outward.  The input is not
     modified.
@@ -67,7 +68,7 @@ def repair_surface(surface: trimesh.Trimesh) -> tuple[trimesh.Trimesh, tuple[str
     if len(mesh.vertices) < n_vertices:
         notes.append(f"merged {_count(n_vertices - len(mesh.vertices), 'coincident vertex')}")
 
-    keep = mesh.nondegenerate_faces(height=tol.point_merge)
+    keep = mesh.nondegenerate_faces(height=fe_tol.point_merge)
     if not keep.all():
         mesh.update_faces(keep)
         notes.append(f"removed {_count(int((~keep).sum()), 'degenerate face')}")

@@ -9,10 +9,10 @@ import numpy as np
 import trimesh
 
 from ..fe.errors import MeshError, ReadError
-from ..fe.tolerances import tol
 from ..fe.typing import PathType
 from ..fe.units import length_factor
 from .repair import check_surface, merge_digits, repair_surface
+from .tolerances import tol
 
 __all__ = ["load_surface", "SURFACE_EXTENSIONS"]
 

@@ -1,39 +1,39 @@
-"""On-disk cache of tetrahedralisations, keyed by the surface and the settings.
+"""Tetrahedralisations in the package cache (:mod:`flexarm.fe.cache`), keyed by the
+surface, the settings, the mesher and its version.
 
-Files live in ``cache_dir()/tets/<sha256>.npz`` (the flexarm ``.npz`` mesh
-format), written atomically, so an interrupted run never leaves a bad entry.
+Entries live in ``<cache root>/tets/<key>.npz`` (the flexarm ``.npz`` mesh format); an
+entry that does not read back as a valid mesh is removed and meshed again.
 """
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from pathlib import Path
 
 import numpy as np
 
-from ..fe.errors import FlexarmError
-from ..fe.files import cache_dir, digest
+from ..fe.cache import Codec, cache_key, cached, lookup
 from ..fe.mesh import TetMesh
-from ..fe.tolerances import tol
+from ..fe.tolerances import tol as fe_tol
 from .formats import npz
+from .tolerances import tol
 
-__all__ = [
-    "tet_cache_key",
-    "tet_cache_path",
-    "load_cached",
-    "store_cached",
-    "CACHE_VERSION",
-    "MESHERS",
-    "cached_tetrahedralization",
-]
+__all__ = ["tet_cache_key", "mesher_key_parts", "TET_CODEC", "MESHERS", "MESHER_LIBRARY",
+           "cached_tetrahedralization", "cached_mesh"]
 
 logger = logging.getLogger(__name__)
 
-#: Bump when the meshing procedure changes so old entries are not reused.
-CACHE_VERSION = 1
-#: The tetrahedralisers (``mesher=`` settings); pytetwild is the default.
+#: The tetrahedralisers (``mesher=`` settings) and the PyPI package that does the work.
 MESHERS = ("tetwild", "gmsh")
+MESHER_LIBRARY = {"tetwild": "pytetwild", "gmsh": "gmsh"}
+
+
+def _read_checked(path) -> TetMesh:
+    return npz.read(path).check(str(path))
+
+
+#: How a mesh is stored: flexarm ``.npz``, checked (orientation, finite nodes) on reading.
+TET_CODEC = Codec(".npz", npz.write, _read_checked)
 
 
 def tet_cache_key(
@@ -47,10 +47,6 @@ def tet_cache_key(
 ) -> str:
     """SHA-256 hex key of a tetrahedralisation request.
 
-    The two meshers never share an entry: any other mesher than ``"tetwild"`` adds
-    its name and ``settings`` to the key (pytetwild keys are those of before the
-    ``mesher`` setting existed, so existing cache entries stay valid).
-
     Parameters
     ----------
     vertices : (n, 3) float
@@ -62,9 +58,9 @@ def tet_cache_key(
     optimize : bool
     order : {1, 2}
     mesher : {"tetwild", "gmsh"}
+        Its name and installed version enter the key: the meshers never share an entry.
     settings : tuple
-        What else decides the mesher's output (e.g. its version and options); must
-        have a stable ``repr``.
+        What else decides the mesher's output (its options); must have a stable ``repr``.
 
     Examples
     --------
@@ -75,52 +71,31 @@ def tet_cache_key(
     >>> tet_cache_key(v, f, 0.01, True, 1) == tet_cache_key(v, f, 0.01, True, 1, mesher="gmsh")
     False
     """
-    if mesher not in MESHERS:
-        raise ValueError(f"mesher must be one of {', '.join(map(repr, MESHERS))}, got {mesher!r}")
-    extra = () if mesher == "tetwild" and not settings else (mesher, tuple(settings))
-    return digest(
+    return cache_key(
         "tets",
-        CACHE_VERSION,
         np.ascontiguousarray(vertices, dtype=np.float64),
         np.ascontiguousarray(faces, dtype=np.int64),
         float(size),
         bool(optimize),
         int(order),
-        tol.tet_envelope,
-        tol.sliver_dihedral_deg,
-        tol.degenerate_volume,
-        *extra,
+        *mesher_key_parts(mesher, settings),
+        libraries=(MESHER_LIBRARY[mesher],),
     )
 
 
-def tet_cache_path(key: str) -> Path:
-    """Where the entry for ``key`` lives (the folder is created)."""
-    folder = cache_dir() / "tets"
-    folder.mkdir(parents=True, exist_ok=True)
-    return folder / f"{key}.npz"
+def mesher_key_parts(mesher: str, settings: tuple = ()) -> tuple:
+    """What decides a mesher's output besides the surface, size and order: its name, its
+    ``settings`` and the meshing tolerances (cache-key parts; the version goes in through
+    ``libraries=(MESHER_LIBRARY[mesher],)``)."""
+    if mesher not in MESHERS:
+        raise ValueError(f"mesher must be one of {', '.join(map(repr, MESHERS))}, got {mesher!r}")
+    return (tol.tet_envelope, tol.sliver_dihedral_deg, fe_tol.degenerate_volume, mesher,
+            tuple(settings))
 
 
-def load_cached(key: str) -> TetMesh | None:
-    """The cached mesh for ``key``, or None if absent or unreadable (then it is removed)."""
-    path = tet_cache_path(key)
-    if not path.is_file():
-        return None
-    try:
-        mesh = npz.read(path).check(str(path))
-    except (FlexarmError, OSError, ValueError, KeyError) as exc:
-        logger.warning("ignoring unreadable tet cache entry %s: %s", path, exc)
-        path.unlink(missing_ok=True)
-        return None
-    logger.info("tet cache hit %s (%d elements)", path.name, mesh.n_tets)
-    return mesh
-
-
-def store_cached(key: str, mesh: TetMesh) -> Path:
-    """Write ``mesh`` under ``key`` atomically; return the file path."""
-    path = tet_cache_path(key)
-    npz.write(path, mesh)
-    logger.info("tet cache stored %s", path)
-    return path
+def cached_mesh(key: str) -> TetMesh | None:
+    """The cached mesh of ``key`` if there is a valid one (nothing is meshed)."""
+    return lookup("tets", key, TET_CODEC)
 
 
 def cached_tetrahedralization(
@@ -147,14 +122,20 @@ def cached_tetrahedralization(
     report = progress or (lambda message: None)
     vertices = np.asarray(surface.vertices, dtype=np.float64)
     faces = np.asarray(surface.faces, dtype=np.int64)
-    key = None
-    if cache:
-        key = tet_cache_key(vertices, faces, size, optimize, order, mesher=mesher,
-                            settings=settings)
-        cached = load_cached(key)
-        if cached is not None:
-            report(f"{name}: tetrahedral mesh from cache ({cached.n_tets} elements)")
-            return cached
+    key = tet_cache_key(vertices, faces, size, optimize, order, mesher=mesher, settings=settings)
+    entry = cached("tets", key, lambda: _mesh_and_check(surface, vertices, faces, order, name,
+                                                          report, make, mesher),
+                   TET_CODEC, enabled=cache)
+    mesh = entry.value
+    if entry.is_hit:
+        report(f"{name}: tetrahedral mesh from cache ({mesh.n_tets} elements)")
+    else:
+        report(f"{name}: {mesh.n_tets} elements, {mesh.n_nodes} nodes")
+    return mesh
+
+
+def _mesh_and_check(surface, vertices, faces, order, name, report, make, mesher) -> TetMesh:
+    """Run the mesher, compare the volume with the surface's, promote to Tet10."""
     mesh = make(vertices, faces, report)
     reference = float(surface.volume)
     error = (float(mesh.volumes().sum()) - reference) / reference
@@ -162,9 +143,6 @@ def cached_tetrahedralization(
         logger.warning("%s: tetrahedra differ from the surface volume by %.2g%%", name, 100 * error)
     if order == 2:
         mesh = mesh.to_tet10()
-    if key is not None:
-        store_cached(key, mesh)
-    report(f"{name}: {mesh.n_tets} elements, {mesh.n_nodes} nodes")
     logger.info("tetrahedralized %s (%s): %d elements, %d nodes", name, mesher, mesh.n_tets,
                 mesh.n_nodes)
     return mesh

@@ -18,9 +18,10 @@ import numpy as np
 
 from ..fe.errors import MeshError, MissingDependencyError
 from ..fe.mesh import TetMesh
-from ..fe.tolerances import tol
+from ..fe.tolerances import tol as fe_tol
 from .quality import dihedral_angles
 from .tet_cache import cached_tetrahedralization
+from .tolerances import tol
 
 __all__ = ["tetrahedralize", "MAX_TRIES", "RETRY_SHRINK"]
 
@@ -92,8 +93,8 @@ def _defect(points: np.ndarray, tets: np.ndarray) -> str | None:
     d = p[:, 1:] - p[:, :1]
     vol = np.einsum("ij,ij->i", d[:, 0], np.cross(d[:, 1], d[:, 2])) / 6.0
     scale = np.abs(vol).mean()
-    n_inverted = int((vol < -tol.degenerate_volume * scale).sum())
-    n_flat = int((np.abs(vol) <= tol.degenerate_volume * scale).sum())
+    n_inverted = int((vol < -fe_tol.degenerate_volume * scale).sum())
+    n_flat = int((np.abs(vol) <= fe_tol.degenerate_volume * scale).sum())
     n_slivers = int((dihedral_angles(points, tets).min(axis=1) < tol.sliver_dihedral_deg).sum())
     problems = []
     if n_inverted:
@@ -161,7 +162,7 @@ def tetrahedralize(
     order : {1, 2}
         Tet4, or Tet10 with straight mid-edge nodes.
     cache : bool
-        Reuse / store the result in ``cache_dir()/tets`` (keyed by the surface's
+        Reuse / store the result in the package cache (``tets``) (keyed by the surface's
         vertices and faces, ``size``, ``optimize``, ``order`` and the tolerances).
     name : str
         What to call the part in messages.

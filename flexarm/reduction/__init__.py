@@ -19,7 +19,14 @@ from .interfaces import (
 )
 from .projection import project
 from .recovery import mode_shape, static_deflection
-from .reduce import METHODS, CoupledModel, coupled_model, reduce_part, reduce_with_stats
+from .reduce import (
+    METHODS,
+    CoupledModel,
+    ReductionStats,
+    coupled_model,
+    reduce_part,
+    reduce_with_stats,
+)
 from .superelement import (
     FORMAT_VERSION,
     Superelement,
@@ -33,7 +40,8 @@ __all__ = [
     "Coupling", "couple", "COUPLINGS", "tributary_areas", "farthest_points",
     "project", "Reduction", "guyan", "guyan_basis", "constraint_modes",
     "craig_bampton", "craig_bampton_basis",
-    "CoupledModel", "coupled_model", "reduce_part", "reduce_with_stats", "METHODS",
+    "CoupledModel", "ReductionStats", "coupled_model", "reduce_part", "reduce_with_stats",
+    "METHODS",
     "Superelement", "FORMAT_VERSION", "reduced_rigid_modes", "matrix_mass_properties",
     "mode_shape", "static_deflection", "formats",
 ]

@@ -14,8 +14,9 @@ import numpy as np
 
 from ..fe.errors import InterfaceError
 from ..fe.mesh import TetMesh
-from ..fe.tolerances import tol
+from ..fe.tolerances import tol as fe_tol
 from ..fe.typing import ArrayLike, FloatArray, IntArray
+from .tolerances import tol
 
 __all__ = [
     "CylinderRegion",
@@ -110,7 +111,7 @@ class CylinderRegion:
         a = np.asarray(self.axis)
         h = d @ a
         r = np.linalg.norm(d - h[:, None] * a, axis=1)
-        eps = tol.point_merge
+        eps = fe_tol.point_merge
         return (np.abs(h) <= self.half_width + eps) & (r >= self.r_min - eps) & (
             r <= self.r_max + eps
         )

@@ -19,9 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from ..fe.errors import FlexarmError, MissingDependencyError
-from ..fe.tolerances import tol
 from .recovery import mode_shape
 from .superelement import Superelement
+from .tolerances import tol
 
 __all__ = ["render_backend", "prefetch_render_backend", "has_display", "render_field",
            "render_mode"]

@@ -13,9 +13,9 @@ import numpy as np
 
 from ..fe.errors import ReadError
 from ..fe.mass_properties import MassProperties
-from ..fe.tolerances import tol
 from ..fe.typing import FloatArray, IntArray
 from .couplings import rigid_transport
+from .tolerances import tol
 
 __all__ = [
     "FORMAT_VERSION",

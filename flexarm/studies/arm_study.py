@@ -11,7 +11,7 @@ RBE2 seats by default).  Per variant the study records
   base frame);
 * the reduced system DOF and the FE DOF of the links;
 * the build time (reduction of all links, as first measured: a cached build reports
-  the seconds written next to its superelement), the solve time (assembly at the pose,
+  the seconds recorded with its superelement), the solve time (assembly at the pose,
   eigenvalues, compliance) and, per mesh size, the time to mesh (or load from the
   mesh cache) all links -- shared by every variant of that size, so it is listed but
   not charged to the variants.
@@ -19,7 +19,7 @@ RBE2 seats by default).  Per variant the study records
 Interface representations: ``rbe2``/``rbe3`` (one 6-DOF node per seat, the cached
 builds of :func:`~flexarm.assembly.build.build_robot`) and ``k<N>`` (``N`` seat nodes
 kept as 3-DOF masters, then tied rigidly to the seat centre in the reduced space: a
-bolt-like connection through ``N`` points, :func:`kmaster_builds`).
+bolt-like connection through ``N`` points, ``BuildOptions(masters=N)``).
 
 Outputs: ``arm_study.csv``, ``arm_study_error_vs_dof.png`` (log-log),
 ``arm_study_pareto.png`` (error vs time) and ``arm_study_verdict.txt``.
@@ -28,8 +28,6 @@ Outputs: ``arm_study.csv``, ``arm_study_error_vs_dof.png`` (log-log),
 from __future__ import annotations
 
 import csv
-import dataclasses
-import json
 import logging
 import time
 from collections.abc import Callable, Sequence
@@ -39,28 +37,17 @@ from pathlib import Path
 import numpy as np
 
 from ..assembly.analyses import natural_frequencies, tcp_compliance
-from ..assembly.build import (
-    BuildOptions,
-    LinkBuild,
-    Mesher,
-    build_robot,
-    cylinder_regions,
-    link_material,
-    link_mesh,
-    link_regions,
-)
+from ..assembly.build import BuildOptions, LinkBuild, Mesher, build_robot, link_mesh, link_mesh_id
 from ..assembly.flexible import flexible_arm
-from ..fe.files import atomic_path, cache_dir, digest, file_digest
+from ..fe.cache import cache_key, cached
+from ..fe.files import atomic_path
 from ..fe.typing import FloatArray
-from ..reduction import Superelement, reduce_with_stats
-from ..reduction.couplings import rigid_transport
-from ..reduction.formats import h5
 from ..robot.description import Robot
 from .arm_study_plots import plot_error_vs_dof, plot_pareto
 
 __all__ = ["PRESETS", "StudyRow", "Reference", "StudyResult", "parse_representation",
-           "tied_superelement", "kmaster_builds", "reference_result", "run_variant",
-           "run_study", "verdict", "write_study", "plot_error_vs_dof", "plot_pareto"]
+           "reference_result", "run_variant", "run_study", "verdict", "write_study",
+           "plot_error_vs_dof", "plot_pareto"]
 
 log = logging.getLogger(__name__)
 
@@ -143,91 +130,6 @@ def parse_representation(text: str) -> tuple[str, int | None]:
                      f"got '{text}'")
 
 
-def tied_superelement(se: Superelement) -> Superelement:
-    """A 3-DOF-node superelement with its masters tied rigidly to each seat centre.
-
-    Master node ``p`` of interface ``i`` moves as ``u_p = u_c + theta_c x (p - c_i)``;
-    the result has one 6-DOF node per interface at ``interface_positions`` (then the
-    modal coordinates unchanged), so it joins the arm like an RBE2 superelement.
-    """
-    if se.dofs_per_node != 3:
-        raise ValueError(f"expected 3-DOF master nodes, got {se.dofs_per_node}-DOF nodes")
-    n_if = len(se.interface_names)
-    nb, m = se.n_boundary, se.n_modes
-    nodes = np.asarray(se.node_positions, dtype=float)
-    owner = np.asarray(se.node_interface, dtype=int)
-    A = rigid_transport(nodes - np.asarray(se.interface_positions)[owner])  # (n_b, 3, 6)
-    S = np.zeros((nb + m, 6 * n_if + m))
-    rows = np.arange(nb).reshape(-1, 3)
-    cols = 6 * owner[:, None] + np.arange(6)
-    S[rows[:, :, None], cols[:, None, :]] = A
-    S[nb:, 6 * n_if:] = np.eye(m)
-    K = S.T @ np.asarray(se.K) @ S
-    M = S.T @ np.asarray(se.M) @ S
-    T = None if se.T is None else (np.asarray(se.T, dtype=float) @ S).astype(se.T.dtype)
-    return dataclasses.replace(
-        se, K=0.5 * (K + K.T), M=0.5 * (M + M.T), T=T, dofs_per_node=6,
-        node_positions=np.array(se.interface_positions, dtype=float),
-        node_interface=np.arange(n_if), input_hash=digest(se.input_hash, "tied"))
-
-
-def kmaster_builds(robot: Robot, options: BuildOptions, k: int, cache: bool = True,
-                   mesher: Mesher | None = None,
-                   progress: Callable[[str], None] | None = None) -> tuple[LinkBuild, ...]:
-    """Like :func:`~flexarm.assembly.build.build_robot` with ``k`` master nodes per seat.
-
-    Each seat keeps ``k`` of its surface nodes as 3-DOF masters during the reduction
-    (the other seat nodes stay free); :func:`tied_superelement` then ties them to the
-    seat centre.  Cached in ``cache_dir()/superelements/k<k>-<key>.h5``.
-    """
-    opts = options.resolved(robot)
-    say = progress or (lambda message: None)
-    out = []
-    for i, lk in enumerate(robot.links):
-        names = link_regions(robot, i, opts.tcp)
-        if not names:
-            out.append(LinkBuild(lk.name, None, ()))
-            continue
-        mesh = mesher(lk, opts.mesh_size, opts.order) if mesher is not None else None
-        mesh_id = digest(mesh.points, mesh.tets) if mesh is not None else file_digest(lk.mesh)
-        mat = link_material(lk, opts.stiffness_scale)
-        key = digest("flexarm-study-k", STUDY_VERSION, k, mesh_id, lk.units, opts.mesh_size,
-                     opts.order, (mat.E, mat.nu, mat.rho),
-                     repr([(n, dataclasses.astuple(lk.regions[n])) for n in names]),
-                     opts.method, opts.n_modes)
-        path = cache_dir() / "superelements" / f"k{k}-{key}.h5"
-        meta = path.with_suffix(".json")
-        if cache and path.is_file() and meta.is_file():
-            st = json.loads(meta.read_text())
-            se = h5.read(path)
-            out.append(LinkBuild(lk.name, se, names, st["n_tets"], st["n_fe_dofs"], se.n_dofs,
-                                 0.0, True, path))
-            say(f"{lk.name}: k{k} superelement from cache")
-            continue
-        t0 = time.perf_counter()
-        if mesh is None:
-            mesh = link_mesh(lk, opts.mesh_size, opts.order, mesher=robot.options.mesher)
-        se, _ = reduce_with_stats(mesh, mat, cylinder_regions(lk, names), "nodes", opts.method,
-                                  opts.n_modes, n_masters=k)
-        se = tied_superelement(se)
-        dt = time.perf_counter() - t0
-        if cache:
-            h5.write(path, se)
-            with atomic_path(meta) as tmp:
-                tmp.write_text(json.dumps({"n_tets": mesh.n_tets, "n_fe_dofs": mesh.n_dofs,
-                                           "seconds": dt}))
-        say(f"{lk.name}: k{k} {mesh.n_dofs} -> {se.n_dofs} DOF in {dt:.1f} s")
-        out.append(LinkBuild(lk.name, se, names, mesh.n_tets, mesh.n_dofs, se.n_dofs, dt, False,
-                             path if cache else None))
-    return tuple(out)
-
-
-def _mesh_ids(robot: Robot, size: float, order: int, mesher: Mesher | None) -> list:
-    if mesher is not None:
-        return [digest(m.points, m.tets) for m in (mesher(lk, size, order) for lk in robot.links)]
-    return [None if lk.mesh is None else file_digest(lk.mesh) for lk in robot.links]
-
-
 def reference_result(robot: Robot, q, mesh_size: float, coupling: str = "rbe2",
                      n_freq: int = 10, mesher: Mesher | None = None, cache: bool = True,
                      progress: Callable[[str], None] | None = None) -> Reference:
@@ -235,7 +137,7 @@ def reference_result(robot: Robot, q, mesh_size: float, coupling: str = "rbe2",
 
     The links are unreduced (:func:`~flexarm.assembly.full_fe.full_fe_bodies`); the
     joints, base support, tool and wrist come from :func:`flexible_arm`, so they are
-    those of every variant.  Cached as JSON in ``cache_dir()/study`` keyed by the robot,
+    those of every variant.  Cached (JSON, ``study-reference``) by the robot,
     its meshes, the pose and the options; ``seconds`` is the time of the first run.
     """
     from ..assembly.full_fe import full_fe_analysis, full_fe_bodies
@@ -243,33 +145,31 @@ def reference_result(robot: Robot, q, mesh_size: float, coupling: str = "rbe2",
     say = progress or (lambda message: None)
     opts = BuildOptions("cb", 0, coupling, mesh_size).resolved(robot)
     q = np.asarray(q, dtype=float)
-    key = digest("flexarm-study-ref", STUDY_VERSION, repr(robot), q, opts.mesh_size,
-                 opts.order, opts.tcp, coupling, n_freq,
-                 _mesh_ids(robot, opts.mesh_size, opts.order, mesher))
-    path = cache_dir() / "study" / f"{key}.json"
-    if cache and path.is_file():
-        d = json.loads(path.read_text())
+    meshes = [None if lk.mesh is None and mesher is None else
+              link_mesh_id(lk, mesher or robot.options.mesher, opts.mesh_size, opts.order)
+              for lk in robot.links]
+    key = cache_key("study-reference", STUDY_VERSION, repr(robot), q, opts.mesh_size,
+                    opts.order, opts.tcp, coupling, n_freq, meshes)
+
+    def compute() -> dict:
+        say(f"full-FE reference at {mesh_size * 1e3:.0f} mm ({coupling})")
+        t0 = time.perf_counter()
+        bodies = full_fe_bodies(robot, opts, mesher, say)
+        # joints, base, tool and wrist exactly as the flexible variants (only bodies differ)
+        gy = BuildOptions("guyan", 0, coupling, mesh_size)
+        arm = flexible_arm(robot, gy, build_robot(robot, gy, cache, mesher))
+        res = full_fe_analysis(arm, bodies, q, n_freq)
+        dt = time.perf_counter() - t0
+        say(f"full-FE reference: {res.n_dofs} DOF in {dt:.1f} s")
+        return {"freq_hz": np.asarray(res.freq_hz).tolist(), "C_diag": np.diag(res.C).tolist(),
+                "n_dofs": res.n_dofs, "seconds": dt}
+
+    entry = cached("study-reference", key, compute, enabled=cache)
+    d = entry.value
+    if entry.is_hit:
         say(f"full-FE reference from cache ({d['n_dofs']} DOF)")
-        return Reference(np.array(d["freq_hz"]), np.array(d["C_diag"]), d["n_dofs"],
-                         mesh_size, coupling, d["seconds"])
-    say(f"full-FE reference at {mesh_size * 1e3:.0f} mm ({coupling})")
-    t0 = time.perf_counter()
-    bodies = full_fe_bodies(robot, opts, mesher, say)
-    # joints, base, tool and wrist exactly as the flexible variants (only bodies differ)
-    gy = BuildOptions("guyan", 0, coupling, mesh_size)
-    arm = flexible_arm(robot, gy, build_robot(robot, gy, cache, mesher))
-    res = full_fe_analysis(arm, bodies, q, n_freq)
-    dt = time.perf_counter() - t0
-    ref = Reference(np.asarray(res.freq_hz), np.diag(res.C).copy(), res.n_dofs, mesh_size,
-                    coupling, dt)
-    say(f"full-FE reference: {res.n_dofs} DOF in {dt:.1f} s")
-    if cache:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        with atomic_path(path) as tmp:
-            tmp.write_text(json.dumps({"freq_hz": ref.freq_hz.tolist(),
-                                       "C_diag": ref.C_diag.tolist(), "n_dofs": ref.n_dofs,
-                                       "seconds": dt}))
-    return ref
+    return Reference(np.array(d["freq_hz"]), np.array(d["C_diag"]), d["n_dofs"], mesh_size,
+                     coupling, d["seconds"])
 
 
 def _premesh(robot: Robot, size: float, order: int, mesher: Mesher | None) -> float:
@@ -284,14 +184,8 @@ def _premesh(robot: Robot, size: float, order: int, mesher: Mesher | None) -> fl
 
 
 def _build_seconds(builds: Sequence[LinkBuild]) -> float:
-    """Meshing + reduction time [s], read from the cache side files when cached."""
-    total = 0.0
-    for lb in builds:
-        if lb.is_cached and lb.path is not None and lb.path.with_suffix(".json").is_file():
-            total += float(json.loads(lb.path.with_suffix(".json").read_text())["seconds"])
-        else:
-            total += lb.seconds
-    return total
+    """Meshing + reduction time [s] of the builds, as first measured (also when cached)."""
+    return float(sum(lb.build_seconds for lb in builds))
 
 
 def _relative(a: FloatArray, b: FloatArray) -> FloatArray:
@@ -310,11 +204,9 @@ def run_variant(robot: Robot, q, ref: Reference, mesh_size: float, coupling: str
     """
     kind, k = parse_representation(coupling)
     method = "guyan" if n_modes == 0 else "cb"
-    opts = BuildOptions(method, int(n_modes), kind if k is None else "rbe2", mesh_size)
-    if k is None:
-        builds = build_robot(robot, opts, cache, mesher, progress)
-    else:
-        builds = kmaster_builds(robot, opts, k, cache, mesher, progress)
+    opts = BuildOptions(method, int(n_modes), kind if k is None else "rbe2", mesh_size,
+                        masters=k)
+    builds = build_robot(robot, opts, cache, mesher, progress)
     t0 = time.perf_counter()
     arm = flexible_arm(robot, opts, builds)
     f = natural_frequencies(arm, q)[: len(ref.freq_hz)]

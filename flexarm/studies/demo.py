@@ -128,8 +128,8 @@ def _superelement_pictures(out: Path, mesh, material, report: DemoReport,
     write_superelement(out / "link_cb10.h5", se)
     report.figures["link_superelement_dof"] = float(se.n_dofs)
     lines = [
-        f"- Craig-Bampton superelement [link_cb10.h5](link_cb10.h5): {stats['n_full']} → "
-        f"{stats['n_reduced']} DOF in {stats['total']:.1f} s; fixed-interface modes "
+        f"- Craig-Bampton superelement [link_cb10.h5](link_cb10.h5): {stats.n_full} → "
+        f"{stats.n_reduced} DOF in {stats.total_seconds:.1f} s; fixed-interface modes "
         + ", ".join(f"{f:.0f}" for f in se.freq_hz[:5]) + " Hz",
     ]
     try:

@@ -1,0 +1,206 @@
+"""One content-addressed on-disk cache for every expensive result of the package.
+
+An entry is one file ``<root>/<kind>/<key><suffix>`` plus a checksum file
+``<key><suffix>.sha256``.  ``key`` is a SHA-256 digest of every input that changes the
+result, the cache layout version and the versions of the libraries that compute it
+(NumPy and SciPy always, the mesher where one is used), so an upgrade never reuses an
+entry made by other code.  Both files are written atomically, the checksum last: an
+entry whose checksum is missing or differs from the file's bytes (a killed write, a
+truncated or edited file) is not trusted, it is removed and computed again.
+
+The root is ``$FLEXARM_CACHE`` if set, else ``~/.cache/flexarm``; deleting it is always
+safe.  Temporary ``.part`` files that a killed process left behind are swept away the
+next time an entry of the same kind is stored.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cache
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+from .files import atomic_path, digest, file_digest
+
+__all__ = ["LAYOUT_VERSION", "Codec", "JSON", "Cached", "cache_root", "cache_key", "cached",
+           "lookup", "library_versions"]
+
+log = logging.getLogger(__name__)
+
+#: Version of the cache layout and of its key recipe; part of every key.
+LAYOUT_VERSION = 2
+#: Libraries whose versions enter every key.
+_BASE_LIBRARIES = ("numpy", "scipy")
+#: A ``.part`` file older than this [s] belongs to a process that died while writing.
+_STALE_PART_SECONDS = 3600.0
+
+
+@dataclass(frozen=True)
+class Codec:
+    """How a value is stored: file ``suffix`` (with the dot), ``save(path, value)`` and
+    ``load(path) -> value``.  ``load`` may raise anything on a bad file."""
+
+    suffix: str
+    save: Callable[[Path, Any], None]
+    load: Callable[[Path], Any]
+
+
+def _save_json(path: Path, value) -> None:
+    path.write_text(json.dumps(value))
+
+
+def _load_json(path: Path):
+    return json.loads(path.read_text())
+
+
+#: Plain JSON values (dicts, lists, numbers, strings).
+JSON = Codec(".json", _save_json, _load_json)
+
+
+@dataclass(frozen=True, eq=False)
+class Cached:
+    """A cached value, the entry's file (None when caching was off) and whether it was
+    read from the cache (``is_hit``) rather than computed."""
+
+    value: Any
+    path: Path | None
+    is_hit: bool
+
+
+def cache_root() -> Path:
+    """The cache folder (created): ``$FLEXARM_CACHE`` or ``~/.cache/flexarm``.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> os.environ["FLEXARM_CACHE"] = tempfile.mkdtemp()
+    >>> cache_root().is_dir()
+    True
+    """
+    env = os.environ.get("FLEXARM_CACHE")
+    path = Path(env) if env else Path.home() / ".cache" / "flexarm"
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+@cache
+def library_versions(libraries: tuple[str, ...] = ()) -> tuple[tuple[str, str], ...]:
+    """``(name, version)`` of NumPy, SciPy and ``libraries`` ("absent" when not installed)."""
+    out = []
+    for name in _BASE_LIBRARIES + tuple(libraries):
+        try:
+            out.append((name, metadata.version(name)))
+        except metadata.PackageNotFoundError:
+            out.append((name, "absent"))
+    return tuple(out)
+
+
+def cache_key(kind: str, *parts, libraries: tuple[str, ...] = ()) -> str:
+    """SHA-256 hex key of an entry of ``kind`` computed from ``parts`` (arrays hashed by
+    content, everything else by ``repr``) with ``libraries`` (PyPI names) at their
+    installed versions.
+
+    Examples
+    --------
+    >>> cache_key("tets", 0.01) == cache_key("tets", 0.02)
+    False
+    >>> len(cache_key("tets", 0.01, libraries=("pytetwild",)))
+    64
+    """
+    return digest("flexarm-cache", LAYOUT_VERSION, kind, library_versions(tuple(libraries)),
+                  *parts)
+
+
+def _checksum_path(path: Path) -> Path:
+    return path.with_name(path.name + ".sha256")
+
+
+def _load_verified(path: Path, codec: Codec):
+    """The entry's value, or None when it is absent or cannot be trusted (then removed)."""
+    check = _checksum_path(path)
+    if not path.is_file():
+        return None
+    try:
+        if not check.is_file() or check.read_text().strip() != file_digest(path):
+            raise ValueError("checksum missing or wrong (an interrupted or damaged write)")
+        return codec.load(path)
+    except Exception as exc:  # noqa: BLE001 - any failure to read means: compute again
+        log.warning("cache entry %s is damaged (%s): computing it again", path, exc)
+        path.unlink(missing_ok=True)
+        check.unlink(missing_ok=True)
+        return None
+
+
+def _sweep_parts(folder: Path) -> None:
+    """Remove temporary files of writes that a killed process never finished."""
+    now = time.time()
+    for part in folder.glob(".*.part*"):
+        try:
+            if now - part.stat().st_mtime > _STALE_PART_SECONDS:
+                part.unlink()
+        except OSError:  # another process finished or removed it meanwhile
+            continue
+
+
+def _store(path: Path, value, codec: Codec) -> None:
+    _sweep_parts(path.parent)
+    with atomic_path(path) as tmp:
+        codec.save(tmp, value)
+        checksum = file_digest(tmp)
+    with atomic_path(_checksum_path(path)) as tmp:
+        tmp.write_text(checksum + "\n")
+
+
+def _entry_path(kind: str, key: str, codec: Codec) -> Path:
+    return cache_root() / kind / f"{key}{codec.suffix}"
+
+
+def lookup(kind: str, key: str, codec: Codec = JSON):
+    """The verified value of entry ``key`` of ``kind``, or None (nothing is computed)."""
+    return _load_verified(_entry_path(kind, key, codec), codec)
+
+
+def cached(kind: str, key: str, compute: Callable[[], Any], codec: Codec = JSON,
+           enabled: bool = True) -> Cached:
+    """The value of entry ``key`` of ``kind``: read and verified, or computed and stored.
+
+    Parameters
+    ----------
+    kind : str
+        Sub-folder of the cache (``"tets"``, ``"superelements"``, ...).
+    key : str
+        From :func:`cache_key` over every input of ``compute``.
+    compute : callable () -> value
+    codec : Codec
+        How the value is written and read (default: JSON).
+    enabled : bool
+        False computes without reading or writing the cache.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> os.environ["FLEXARM_CACHE"] = tempfile.mkdtemp()
+    >>> key = cache_key("example", 3)
+    >>> cached("example", key, lambda: {"n": 3}).is_hit
+    False
+    >>> cached("example", key, lambda: {"n": 3}).value
+    {'n': 3}
+    """
+    if not enabled:
+        return Cached(compute(), None, False)
+    path = _entry_path(kind, key, codec)
+    value = _load_verified(path, codec)
+    if value is not None:
+        log.info("cache hit %s/%s", kind, path.name)
+        return Cached(value, path, True)
+    value = compute()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    _store(path, value, codec)
+    log.info("cache stored %s/%s", kind, path.name)
+    return Cached(value, path, False)

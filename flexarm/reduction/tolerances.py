@@ -1,0 +1,29 @@
+"""Numerical tolerances of the reduction layer (regions, superelement files).
+
+Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
+``dataclasses.replace``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = ["Tolerances", "tol"]
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    #: Region nodes: smallest / largest eigenvalue of the (weighted) second-moment tensor
+    #: about the centroid below which they count as collinear (cannot carry a rotation).
+    region_collinear: float = 1e-8
+    #: Nodes needed at least in a region to carry 6 DOFs (3 non-collinear points).
+    min_region_nodes: int = 3
+    #: Relative asymmetry accepted when loading a superelement file.
+    file_symmetry: float = 1e-10
+    #: Most negative eigenvalue of a loaded K accepted, relative to its largest.
+    file_psd: float = 1e-8
+    #: Render-probe subprocess time limit [s].
+    render_probe_seconds: float = 60.0
+
+
+tol = Tolerances()
