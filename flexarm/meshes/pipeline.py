@@ -62,7 +62,7 @@ def solid_key(path: PathType, units: str, mesher: str = "tetwild") -> str:
     >>> import tempfile, pathlib
     >>> from flexarm.meshes import bar_surface, write_surface
     >>> path = pathlib.Path(tempfile.mkdtemp()) / "bar.stl"
-    >>> write_surface(path, bar_surface())
+    >>> write_surface(path, bar_surface(0.5, 0.05, 0.05))
     >>> solid_key(path, "m") == solid_key(path, "mm")
     False
     """

@@ -16,7 +16,7 @@ logger = logging.getLogger(__name__)
 
 
 def _supported() -> str:
-    return "supported: " + ", ".join(formats.extensions())
+    return "supported: " + ", ".join(formats.registry.extensions())
 
 
 def read_volume_mesh(path: PathType) -> TetMesh:
@@ -50,7 +50,7 @@ def read_volume_mesh(path: PathType) -> TetMesh:
     (24, 2)
     """
     path = Path(path)
-    fmt = formats.format_for(path)
+    fmt = formats.registry.find(path)
     if not path.is_file():
         raise ReadError(f"{path}: no such file")
     if fmt is None:
@@ -92,7 +92,7 @@ def write_volume_mesh(path: PathType, mesh: TetMesh) -> None:
     [[0, 1, 2, 3]]
     """
     path = Path(path)
-    fmt = formats.format_for(path)
+    fmt = formats.registry.find(path)
     if fmt is None:
         raise ValueError(f"{path}: cannot write '{path.suffix}' volume meshes ({_supported()})")
     logger.info("writing %s mesh %s (%d elements)", fmt.name, path, mesh.n_tets)

@@ -22,6 +22,7 @@ from .description import (
 from .ik import IKConfig, ik, ik_analytic, ik_dls
 from .joints import JointModel
 from .kinematics import Chain, jacobian, joint_to_motor, link_frames, motor_to_joint, tcp_frame
+from .loader import load_robot
 
 __all__ = [
     "BaseSupport", "Joint", "Link", "LumpedMass", "ModelOptions", "Region", "Robot", "Tool",
@@ -29,4 +30,5 @@ __all__ = [
     "IKConfig", "ik", "ik_analytic", "ik_dls",
     "JointModel",
     "Chain", "jacobian", "joint_to_motor", "link_frames", "motor_to_joint", "tcp_frame",
+    "load_robot",
 ]

@@ -10,9 +10,9 @@ import pytest
 import flexarm.meshes.tetwild as tetwild
 from flexarm.fe.errors import MeshError
 from flexarm.fe.mesh import TET10_EDGES, TetMesh
-from flexarm.meshes.tolerances import tol
 from flexarm.meshes import mesh_quality, tetrahedralize
 from flexarm.meshes.primitives import bar_surface, cylinder_surface
+from flexarm.meshes.tolerances import tol
 
 from .conftest import BAR
 

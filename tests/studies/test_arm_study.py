@@ -5,15 +5,12 @@ import csv
 import numpy as np
 import pytest
 
-from flexarm.fe.material import MATERIALS
 from flexarm.fe.mesh import TetMesh
-from flexarm.reduction import reduce_part
 from flexarm.studies.arm_study import (
     parse_representation,
     run_study,
     verdict,
 )
-from flexarm.studies.part_study import bar_link
 
 from ..box_arm import BOXES
 

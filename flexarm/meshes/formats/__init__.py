@@ -1,15 +1,13 @@
-"""Volume-mesh file formats, one module each, found by extension through ``_registry``."""
+"""Volume-mesh file formats, one module each, found by extension through ``registry``."""
 
+from ...fe.formats import FormatRegistry
 from . import msh, npz, vtk, vtu
-from ._registry import VolumeFormat, extensions, format_for, register_format
 
-__all__ = [
-    "VolumeFormat",
-    "extensions",
-    "format_for",
-    "register_format",
-    "msh",
-    "npz",
-    "vtk",
-    "vtu",
-]
+#: The volume-mesh formats (:class:`~flexarm.fe.formats.FormatRegistry`).
+registry = FormatRegistry("volume mesh")
+registry.register("gmsh", (".msh",), msh.read, msh.write)
+registry.register("npz", (".npz",), npz.read, npz.write)
+registry.register("vtk", (".vtk",), vtk.read, vtk.write)
+registry.register("vtu", (".vtu",), vtu.read, vtu.write)
+
+__all__ = ["registry", "msh", "npz", "vtk", "vtu"]

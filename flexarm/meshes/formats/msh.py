@@ -12,7 +12,6 @@ import numpy as np
 
 from ...fe.mesh import TetMesh
 from ._meshio import read_meshio, write_meshio
-from ._registry import register_format
 
 __all__ = ["read", "write"]
 
@@ -27,5 +26,3 @@ def write(path, mesh: TetMesh) -> None:
     # Binary MSH stores indices as size_t: hand meshio that type (else it warns).
     write_meshio(path, mesh, "gmsh", set_dtype=np.float64, cell_dtype=np.uint64, binary=True)
 
-
-register_format("gmsh", (".msh",), read, write)

@@ -12,7 +12,6 @@ import numpy as np
 from ...fe.errors import ReadError
 from ...fe.files import atomic_path
 from ...fe.mesh import TetMesh
-from ._registry import register_format
 
 __all__ = ["read", "write", "FORMAT_NAME", "FORMAT_VERSION"]
 
@@ -58,5 +57,3 @@ def write(path, mesh: TetMesh) -> None:
             **arrays,
         )
 
-
-register_format("npz", (".npz",), read, write)

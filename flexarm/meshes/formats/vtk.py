@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from ...fe.mesh import TetMesh
 from ._meshio import read_meshio, write_meshio
-from ._registry import register_format
 
 __all__ = ["read", "write"]
 
@@ -18,5 +17,3 @@ def write(path, mesh: TetMesh) -> None:
     """Write ``mesh`` as binary legacy ``.vtk`` (node sets as uint8 point data), atomically."""
     write_meshio(path, mesh, "vtk")
 
-
-register_format("vtk", (".vtk",), read, write)

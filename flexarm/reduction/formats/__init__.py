@@ -1,11 +1,46 @@
-"""Superelement file formats, one module each, registered by extension."""
+"""Superelement file formats, one module each (``read(path)``, ``write(path, se)``),
+found by extension or name through ``registry``."""
 
+from ...fe.formats import FormatRegistry
 from . import dmig, h5, mtx, npz
-from ._registry import EXTENSIONS, FORMATS, format_of, read, register_format, write
 
-register_format("h5", (".h5", ".hdf5", ".se"), h5)
-register_format("npz", (".npz",), npz)
-register_format("mtx", (".mtx",), mtx)
-register_format("dmig", (".bdf", ".dmig", ".pch", ".dat"), dmig)
+#: The superelement formats (:class:`~flexarm.fe.formats.FormatRegistry`).
+registry = FormatRegistry("superelement")
+registry.register("h5", (".h5", ".hdf5", ".se"), h5.read, h5.write)
+registry.register("npz", (".npz",), npz.read, npz.write)
+registry.register("mtx", (".mtx",), mtx.read, mtx.write)
+registry.register("dmig", (".bdf", ".dmig", ".pch", ".dat"), dmig.read, dmig.write)
 
-__all__ = ["read", "write", "format_of", "register_format", "FORMATS", "EXTENSIONS"]
+
+def read(path, file_format: str | None = None):
+    """Read a superelement; the format follows the extension unless ``file_format`` names it.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from flexarm.fe import MATERIALS, TetMesh
+    >>> from flexarm.reduction import CylinderRegion, reduce_part
+    >>> mesh = TetMesh.box((0.4, 0.04, 0.04), (8, 2, 2))
+    >>> ends = [CylinderRegion(n, (x, 0.02, 0.02), (1, 0, 0), 0.0, 0.04, 1e-6)
+    ...         for n, x in (("a", 0.0), ("b", 0.4))]
+    >>> se = reduce_part(mesh, MATERIALS["steel"], ends, "rbe2", "cb", 4)
+    >>> path = write(pathlib.Path(tempfile.mkdtemp()) / "bar.h5", se)
+    >>> read(path).n_dofs
+    16
+    """
+    return registry.read(path, file_format)
+
+
+def write(path, se, file_format: str | None = None):
+    """Write ``se`` to ``path`` (atomically) in the format of its extension or
+    ``file_format``; returns the path."""
+    return registry.write(path, se, file_format)
+
+
+def format_of(path, file_format: str | None = None) -> str:
+    """Name of the format given explicitly or by the extension of ``path`` (a bad one
+    raises ``ValueError`` before any work)."""
+    return registry.format_of(path, file_format).name
+
+
+__all__ = ["registry", "read", "write", "format_of"]

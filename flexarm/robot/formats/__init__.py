@@ -1,12 +1,35 @@
-"""Robot description formats: one module per format, registered by extension."""
+"""Robot description formats, one module each, found by extension through ``registry``:
+TOML (read and write, :mod:`~flexarm.robot.formats.toml`) and URDF (read,
+:mod:`~flexarm.robot.formats.urdf`).  RAPID programs (:mod:`~flexarm.robot.formats.rapid`)
+describe paths, not robots."""
 
-from __future__ import annotations
+from ...fe.formats import FormatRegistry
+from . import toml, urdf
 
-from . import toml as _toml
-from . import urdf as _urdf
-from ._registry import read, reader, register_format, write, writer
+#: The robot description formats (:class:`~flexarm.fe.formats.FormatRegistry`).
+registry = FormatRegistry("robot description")
+registry.register("toml", (".toml",), toml.read, toml.write)
+registry.register("urdf", (".urdf",), urdf.read)
 
-register_format([".toml"], _toml.read, _toml.write)
-register_format([".urdf"], _urdf.read, None)
 
-__all__ = ["read", "write", "reader", "writer", "register_format"]
+def read(path, **options):
+    """Read a robot description; the format follows the extension (``.toml``, ``.urdf``).
+
+    ``options`` go to the format's reader (URDF: ``meshes="collision"|"visual"``).
+
+    Examples
+    --------
+    >>> from flexarm.robot.demo_arm import demo_robot_path
+    >>> read(demo_robot_path()).name
+    'flexarm demo arm (IRB 4600-60/2.05 class)'
+    """
+    return registry.read(path, **options)
+
+
+def write(path, robot, **options):
+    """Write ``robot`` atomically in the format of the extension (``.toml``); returns the
+    path."""
+    return registry.write(path, robot, **options)
+
+
+__all__ = ["registry", "read", "write"]
