@@ -16,6 +16,7 @@ from .mesh import TetMesh
 from .quadrature import tet_quadrature
 from .tet4 import Tet4
 from .tet10 import Tet10
+from .topology import TET10_EDGES
 
 __all__ = [
     "element_type",
@@ -57,8 +58,6 @@ def is_affine(mesh: TetMesh) -> bool:
     """True when every element is straight-sided (Tet4, or Tet10 with mid-edge midpoints)."""
     if mesh.order == 1:
         return True
-    from .mesh import TET10_EDGES
-
     corners = mesh.points[mesh.tets[:, TET10_EDGES]]  # (m, 6, 2, 3)
     mids = mesh.points[mesh.tets[:, 4:]]
     dev = np.abs(mids - corners.mean(axis=2)).max()

@@ -13,14 +13,12 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import MeshError
+from .structured import box_tets, promote_tet10
 from .tolerances import tol
+from .topology import TET10_EDGES, TET_FACES
 
 __all__ = ["TetMesh", "TET10_EDGES", "TET_FACES"]
 
-#: Local corner pairs of the six Tet10 mid-edge nodes 4..9 (VTK order).
-TET10_EDGES = np.array([[0, 1], [1, 2], [0, 2], [0, 3], [1, 3], [2, 3]], dtype=np.int64)
-#: Local corner triples of the four faces, each oriented outward for a positive tet.
-TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]], dtype=np.int64)
 
 
 def _frozen_sets(node_sets: Mapping[str, np.ndarray] | None) -> Mapping[str, np.ndarray]:
@@ -206,7 +204,6 @@ class TetMesh:
         >>> round(float(m.volumes().sum()), 12)
         0.01
         """
-        from .structured import box_tets
 
         points, tets = box_tets(size, divisions, origin)
         mesh = cls(points, tets)
@@ -216,7 +213,6 @@ class TetMesh:
         """Copy promoted to Tet10 with straight mid-edge nodes (no-op for Tet10)."""
         if self.order == 2:
             return self
-        from .structured import promote_tet10
 
         points, tets = promote_tet10(self.points, self.tets)
         return TetMesh(points, tets, dict(self.node_sets))

@@ -6,7 +6,7 @@ from itertools import permutations
 
 import numpy as np
 
-from .mesh import TET10_EDGES
+from .topology import TET10_EDGES
 
 __all__ = ["box_tets", "promote_tet10"]
 

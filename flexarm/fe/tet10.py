@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mesh import TET10_EDGES
+from .topology import TET10_EDGES
 
 __all__ = ["Tet10"]
 

@@ -31,7 +31,7 @@ import csv
 import logging
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -44,6 +44,7 @@ from ..fe.files import atomic_path
 from ..fe.typing import FloatArray
 from ..robot.description import Robot
 from .arm_study_plots import plot_error_vs_dof, plot_pareto
+from .arm_study_results import Reference, StudyResult, StudyRow
 
 __all__ = ["PRESETS", "StudyRow", "Reference", "StudyResult", "parse_representation",
            "reference_result", "run_variant", "run_study", "verdict", "write_study",
@@ -59,60 +60,6 @@ PRESETS = {
     "small": {"sizes": None, "modes": (0, 5, 10), "couplings": ("rbe2", "rbe3")},
     "full": {"sizes": None, "modes": (0, 5, 10, 20), "couplings": ("rbe2", "rbe3", "k4", "k8")},
 }
-
-
-@dataclass(frozen=True)
-class StudyRow:
-    """One variant (errors relative [-], times [s], compliance base frame)."""
-
-    mesh_size: float
-    coupling: str
-    n_modes: int
-    label: str
-    n_reduced: int
-    n_fe_dofs: int
-    freq_err_max: float
-    freq_err_mean: float
-    C_err_max: float
-    C_err_mean: float
-    build_seconds: float
-    solve_seconds: float
-    mesh_seconds: float = 0.0
-    freq_hz: tuple = ()
-    C_diag: tuple = ()
-
-    @property
-    def error(self) -> float:
-        """The larger of the worst frequency and the worst compliance error [-]."""
-        return max(self.freq_err_max, self.C_err_max)
-
-    @property
-    def seconds(self) -> float:
-        """Build plus solve time [s]."""
-        return self.build_seconds + self.solve_seconds
-
-
-@dataclass(frozen=True)
-class Reference:
-    """Full-FE reference: ``freq_hz`` (n,) [Hz], ``C_diag`` (6,) [m/N, rad/(N m)]."""
-
-    freq_hz: FloatArray
-    C_diag: FloatArray
-    n_dofs: int
-    mesh_size: float
-    coupling: str
-    seconds: float
-
-
-@dataclass(frozen=True)
-class StudyResult:
-    """All rows, the reference, the verdict text and the written files."""
-
-    rows: tuple[StudyRow, ...]
-    reference: Reference
-    pose: str
-    verdict: str
-    files: tuple[Path, ...] = field(default=())
 
 
 def parse_representation(text: str) -> tuple[str, int | None]:

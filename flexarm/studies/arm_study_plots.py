@@ -7,15 +7,12 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
-
-if TYPE_CHECKING:
-    from .arm_study import StudyResult
+from .arm_study_results import StudyResult
 
 __all__ = ["plot_error_vs_dof", "plot_pareto"]
 

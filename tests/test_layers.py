@@ -1,0 +1,132 @@
+"""The package's layers: every import in ``flexarm/`` points down the documented order,
+and no module imports itself back through a chain of others.
+
+Layer order (README, *Layout*): ``fe`` < ``meshes``, ``reduction`` < ``robot`` <
+``assembly`` < ``validation`` < ``studies`` < ``cli``.  A module may import its own
+layer and the layers below; ``meshes`` and ``reduction`` are siblings and import neither
+each other.  Imports inside functions count the same as those at the top.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+import flexarm
+
+PACKAGE = Path(flexarm.__file__).parent
+#: layer -> rank; equal ranks are siblings
+LAYERS = {"fe": 0, "meshes": 1, "reduction": 1, "robot": 2, "assembly": 3, "validation": 4,
+          "studies": 5, "cli": 6}
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def _imports(path: Path) -> list[tuple[int, str]]:
+    """(line, absolute module) of every flexarm import in ``path``."""
+    name = _module_name(path)
+    package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[: len(package.split(".")) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            subs = [f"{target}.{a.name}" for a in node.names]
+            found += [(node.lineno, s if _exists(s) else target) for s in subs]
+        elif isinstance(node, ast.Import):
+            found += [(node.lineno, a.name) for a in node.names]
+    return [(line, t) for line, t in found if t == "flexarm" or t.startswith("flexarm.")]
+
+
+def _exists(module: str) -> bool:
+    rel = Path(*module.split(".")[1:])
+    return (PACKAGE / rel).with_suffix(".py").is_file() or (PACKAGE / rel / "__init__.py").is_file()
+
+
+def _layer(module: str) -> str | None:
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else None
+
+
+def _graph() -> dict[str, list[tuple[int, str]]]:
+    return {_module_name(p): _imports(p) for p in sorted(PACKAGE.rglob("*.py"))}
+
+
+def violations(graph) -> list[str]:
+    """One line per import that points up (or sideways between sibling layers)."""
+    out = []
+    for module, targets in graph.items():
+        src = _layer(module)
+        if src is None:  # flexarm/__init__.py imports nothing but its version
+            out += [f"{module}:{line} imports {t}" for line, t in targets]
+            continue
+        if src not in LAYERS:
+            out.append(f"{module}: not in a documented layer")
+            continue
+        for line, target in targets:
+            dst = _layer(target)
+            if dst is None or dst == src:
+                continue
+            if dst not in LAYERS or LAYERS[dst] >= LAYERS[src]:
+                out.append(f"{module}:{line} ({src}) imports {target} ({dst})")
+    return out
+
+
+def cycles(graph) -> list[list[str]]:
+    """Import cycles between modules (each as the list of modules around it)."""
+    edges = {m: sorted({t for _, t in ts if t in graph and t != m}) for m, ts in graph.items()}
+    # a package's __init__ re-exports its modules; importing a module runs its package's
+    # __init__ first, which is not an import *by* the module
+    for m in edges:
+        edges[m] = [t for t in edges[m] if not m.startswith(t + ".")]
+    found, state, stack = [], {}, []
+
+    def visit(m):
+        state[m] = 1
+        stack.append(m)
+        for t in edges[m]:
+            if state.get(t) == 1:
+                found.append(stack[stack.index(t):] + [t])
+            elif t not in state:
+                visit(t)
+        stack.pop()
+        state[m] = 2
+
+    for m in sorted(edges):
+        if m not in state:
+            visit(m)
+    return found
+
+
+def test_every_import_points_down_the_layers():
+    assert violations(_graph()) == []
+
+
+def test_no_import_cycles():
+    assert cycles(_graph()) == []
+
+
+def test_the_check_sees_an_upward_and_a_sibling_import():
+    graph = {"flexarm.fe.mesh": [(3, "flexarm.assembly.system")],
+             "flexarm.meshes.surface": [(4, "flexarm.reduction.tie")],
+             "flexarm.studies.demo": [(5, "flexarm.validation.diagnose")]}
+    assert violations(graph) == [
+        "flexarm.fe.mesh:3 (fe) imports flexarm.assembly.system (assembly)",
+        "flexarm.meshes.surface:4 (meshes) imports flexarm.reduction.tie (reduction)"]
+
+
+@pytest.mark.parametrize("loop", [["a", "b"], ["a", "b", "c"]])
+def test_the_check_sees_a_cycle(loop):
+    names = [f"flexarm.fe.{n}" for n in loop]
+    graph = {n: [(1, names[(i + 1) % len(names)])] for i, n in enumerate(names)}
+    assert len(cycles(graph)) == 1
