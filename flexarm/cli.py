@@ -875,17 +875,17 @@ def _compare_dynamic(args, data) -> int:
     if isinstance(data, ModalData):
         cmp = cd.compare_modal(arm, data, effects, args.freq_noise / 100, flexible)
         _print(_table(["pose", "mode", "measured_Hz", "model_Hz", "error_Hz", "error_%"],
-                      [[r["pose"], r["mode"], r["measured_hz"], r["model_hz"], r["error_hz"],
-                        r["error_pct"]] for r in cmp.table], "{:.3f}"))
+                      [[r.pose, r.mode, r.measured_hz, r.model_hz, r.error_hz,
+                        r.error_pct] for r in cmp.table], "{:.3f}"))
         _print(f"chi2_red = {cmp.chi2_red:.3f} (band {cmp.band[0]:.3f}-{cmp.band[1]:.3f} for "
                f"{args.freq_noise}% frequency noise), RMS error {cmp.rms_pct:.2f}%")
         write = cd.write_modal_report
     else:
         cmp = cd.compare_frf(arm, data, effects, flexible)
         _print(_table(["pose", "in", "out", "rms_log10|H|", "peak_meas_Hz", "peak_model_Hz",
-                       "peak_err_%"], [[r["pose"], r["input"], r["output"], r["rms_log10_mag"],
-                                        r["peak_meas_hz"], r["peak_model_hz"],
-                                        r["peak_error_pct"]] for r in cmp.table], "{:.3f}"))
+                       "peak_err_%"], [[r.pose, r.input, r.output, r.rms_log10_mag,
+                                        r.peak_meas_hz, r.peak_model_hz,
+                                        r.peak_error_pct] for r in cmp.table], "{:.3f}"))
         write = cd.write_frf_report
     if args.output:
         for p in write(args.output, cmp):
@@ -907,8 +907,8 @@ def _run_compare(args) -> int:
     effects = _with_links(effects, flexible)
     cmp = compare_static(arm, data, effects, args.noise * 1e-6, flexible)
     _print(_table(["series", "mean_abs_mm", "max_abs_mm", "relative", "max_meas_mm"],
-                  [[r["series"], r["mean_abs_mm"], r["max_abs_mm"], r["relative"],
-                    r["max_meas_mm"]] for r in cmp.table], "{:.4f}"))
+                  [[r.series, r.mean_abs_mm, r.max_abs_mm, r.relative,
+                    r.max_meas_mm] for r in cmp.table], "{:.4f}"))
     lo, hi = cmp.band
     _print(f"chi2_red = {cmp.chi2_red:.3f} (band {lo:.3f}-{hi:.3f} for the stated noise), "
            f"RMS = {cmp.rms * 1e6:.1f} um")
@@ -954,12 +954,12 @@ def _run_diagnose(args) -> int:
     arm, flexible = _flexible_models(args, robot, arm)
     dg = diagnose(arm, data, args.noise * 1e-6, args.noise_model, poses=robot.poses, modal=modal,
                   flexible=flexible, freq_noise=args.freq_noise / 100)
-    sv = dg.identifiability["singular_values"]
-    _print(f"identifiability: condition {dg.identifiability['condition']:.3g}, singular "
-           f"values {', '.join(f'{v:.3g}' for v in sv)}")
-    for j, s in dg.identifiability["sign_changes"].items():
+    ident = dg.identifiability
+    _print(f"identifiability: condition {ident.condition:.3g}, singular "
+           f"values {', '.join(f'{v:.3g}' for v in ident.singular_values)}")
+    for j, s in ident.sign_changes.items():
         _print(f"  {j} torque changes sign in: {', '.join(s) if s else 'no series'}")
-    for k, v in dg.identifiability.get("leave_one_pose_out", {}).items():
+    for k, v in ident.leave_one_pose_out.items():
         _print(f"  leave-one-pose-out chi2_red on {k}: {v:.3f}")
     for i, st in enumerate(dg.steps):
         _print(f"\nv{i} {st.label}: chi2_red {st.chi2_red:.3f} (band {st.band[0]:.3f}-"
@@ -969,7 +969,7 @@ def _run_diagnose(args) -> int:
             _print(_table(["candidate", "status", "dBIC", "unique", "norm", "detail"],
                           [[c.label, c.status, f"{c.dbic:.1f}", f"{c.unique:.2f}",
                             f"{c.norm:.1f}", c.detail] for c in st.candidates]))
-        if st.winner:
+        if st.winner is not None:
             _print(("ACCEPTED: " if st.accepted else "best, not accepted: ") + st.explanation)
     for n in dg.notes:
         _print(f"note: {n}")

@@ -10,7 +10,7 @@ noise (no fitted parameters: dof = number of observations).
 from __future__ import annotations
 
 import csv
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -21,7 +21,38 @@ from .fit import Problem, chi2_band
 from .measurements import StaticData
 from .tolerances import tol
 
-__all__ = ["Comparison", "compare_static", "write_report"]
+__all__ = ["SeriesError", "Comparison", "compare_static", "write_report", "write_rows"]
+
+
+@dataclass(frozen=True)
+class SeriesError:
+    """Error of the model on one load series (a row of ``errors.csv``).
+
+    Attributes
+    ----------
+    series : str
+        Series label, ``"<pose>_<dir>"``.
+    pose : str
+        Pose label.
+    dir : str
+        Load direction, ``"+x"`` ... ``"-z"`` (the force component that dominates).
+    mean_abs_mm, max_abs_mm : float
+        Mean and largest ``|d_meas - d_pred|`` along the load direction over the loaded
+        readings [mm].
+    relative : float
+        ``mean_abs_mm`` over the mean ``|d_meas|`` along the load direction
+        (dimensionless).
+    max_meas_mm : float
+        Largest measured ``|d_meas|`` along the load direction [mm].
+    """
+
+    series: str
+    pose: str
+    dir: str
+    mean_abs_mm: float
+    max_abs_mm: float
+    relative: float
+    max_meas_mm: float
 
 
 @dataclass(frozen=True)
@@ -32,16 +63,20 @@ class Comparison:
     ----------
     predicted : (n, 3) float
         Predicted relative deflections [m].
-    table : list of dict
-        Per series: pose, dir, mean_abs_mm, max_abs_mm, relative, max_meas_mm.
+    table : tuple of SeriesError
+        One row per series, in the order of the data.
     chi2_red : float
-    band : (2,) float
+        GLS chi^2 per observation with the stated noise.
+    band : (float, float)
+        Acceptance band of ``chi2_red``.
     rms : float
         RMS of ``d_meas - d_pred`` over loaded readings [m].
+    problem : Problem
+        The data with the noise model and kinematics the comparison used.
     """
 
     predicted: np.ndarray
-    table: list
+    table: tuple[SeriesError, ...]
     chi2_red: float
     band: tuple
     rms: float
@@ -73,15 +108,24 @@ def compare_static(arm: ArmModel, data: StaticData, effects=(),
         err = np.abs(data.disp[loaded, k] - pred[loaded, k])
         meas = np.abs(data.disp[loaded, k])
         label = str(data.series[g[0]])
-        rows.append({"series": label, "pose": label.split("_")[0],
-                     "dir": ("-" if sgn < 0 else "+") + "xyz"[k],
-                     "mean_abs_mm": float(err.mean() * 1e3) if err.size else 0.0,
-                     "max_abs_mm": float(err.max() * 1e3) if err.size else 0.0,
-                     "relative": float(err.mean() / max(meas.mean(), 1e-12)) if err.size
-                     else 0.0, "max_meas_mm": float(meas.max() * 1e3) if err.size else 0.0})
+        rows.append(SeriesError(
+            series=label, pose=label.split("_")[0], dir=("-" if sgn < 0 else "+") + "xyz"[k],
+            mean_abs_mm=float(err.mean() * 1e3) if err.size else 0.0,
+            max_abs_mm=float(err.max() * 1e3) if err.size else 0.0,
+            relative=float(err.mean() / max(meas.mean(), 1e-12)) if err.size else 0.0,
+            max_meas_mm=float(meas.max() * 1e3) if err.size else 0.0))
     res = (data.disp - pred)[~pb.is_ref]
-    return Comparison(pred, rows, chi2_red, chi2_band(max(pb.n_obs, 1)),
+    return Comparison(pred, tuple(rows), chi2_red, chi2_band(max(pb.n_obs, 1)),
                       float(np.sqrt(np.mean(res**2))) if res.size else 0.0, pb)
+
+
+def write_rows(path, row_type: type, rows) -> None:
+    """Write the dataclass ``rows`` (instances of ``row_type``) as CSV: one column per
+    field, in field order; values as :mod:`csv` writes them (``repr`` of floats)."""
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([f.name for f in fields(row_type)])
+        w.writerows([getattr(r, f.name) for f in fields(row_type)] for r in rows)
 
 
 def write_report(folder, cmp: Comparison) -> list[Path]:
@@ -91,10 +135,7 @@ def write_report(folder, cmp: Comparison) -> list[Path]:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     out = [folder / "errors.csv"]
-    with open(out[0], "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(cmp.table[0]))
-        w.writeheader()
-        w.writerows(cmp.table)
+    write_rows(out[0], SeriesError, cmp.table)
     pb, data = cmp.problem, cmp.problem.data
     fmag = np.linalg.norm(data.force, axis=1)
     n = len(pb.groups)
@@ -129,7 +170,7 @@ def write_report(folder, cmp: Comparison) -> list[Path]:
     out.append(folder / "residual_vs_torque.png")
     fig.savefig(out[-1], dpi=90)
     plt.close(fig)
-    poses = sorted({r["pose"] for r in cmp.table})
+    poses = sorted({r.pose for r in cmp.table})
     fig, ax = plt.subplots(figsize=(5, 3))
     pose_of = np.array([str(s).split("_")[0] for s in data.series])
     ax.boxplot([np.abs(res[(pose_of == p) & ~pb.is_ref]).ravel() for p in poses])

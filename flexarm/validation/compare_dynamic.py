@@ -12,7 +12,6 @@
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -23,13 +22,14 @@ from ..assembly.effects import apply_effects
 from ..assembly.linkflex import links_arm, split_links
 from ..assembly.system import ArmModel
 from ..fe.plotting import pyplot
+from .compare import write_rows
 from .fit import chi2_band
 from .measurements import FrfData, ModalData
 from .modal import match_frequencies
 from .tolerances import tol
 
-__all__ = ["ModalComparison", "FrfComparison", "compare_modal", "compare_frf",
-           "write_modal_report", "write_frf_report"]
+__all__ = ["ModalError", "ModalComparison", "FrfError", "FrfComparison", "compare_modal",
+           "compare_frf", "write_modal_report", "write_frf_report"]
 
 
 def _model(arm: ArmModel, effects, flexible):
@@ -38,13 +38,58 @@ def _model(arm: ArmModel, effects, flexible):
 
 
 @dataclass(frozen=True)
+class ModalError:
+    """Error of one measured natural frequency (a row of ``modal_errors.csv``).
+
+    Attributes
+    ----------
+    pose : str
+        Pose label.
+    mode : int
+        Measured mode number (1-based, as in the file).
+    model_mode : int
+        Model mode it was matched with (1-based).
+    matched : bool
+        False: no model mode inside the matching window; the row is kept out of
+        ``chi2_red`` and ``rms_pct``.
+    measured_hz, model_hz : float
+        Measured and model natural frequency [Hz].
+    error_hz : float
+        ``model_hz - measured_hz`` [Hz].
+    error_pct : float
+        ``error_hz`` relative to ``measured_hz`` [%].
+    """
+
+    pose: str
+    mode: int
+    model_mode: int
+    matched: bool
+    measured_hz: float
+    model_hz: float
+    error_hz: float
+    error_pct: float
+
+
+@dataclass(frozen=True)
 class ModalComparison:
-    """Result of :func:`compare_modal`: ``table`` rows (pose, mode, model_mode, matched,
-    measured_hz, model_hz, error_hz, error_pct), ``chi2_red`` and its ``band`` and
-    ``rms_pct`` over the matched rows."""
+    """Result of :func:`compare_modal`.
+
+    Attributes
+    ----------
+    predicted : (n,) float
+        Model natural frequency matched to each measured one [Hz].
+    table : tuple of ModalError
+        One row per measured frequency, in the order of the data.
+    chi2_red : float
+        chi^2 per matched frequency with the relative frequency noise.
+    band : (float, float)
+        Acceptance band of ``chi2_red``.
+    rms_pct : float
+        RMS relative error over the matched rows [%].
+    """
 
     predicted: np.ndarray
-    table: list
+    table: tuple[ModalError, ...]
     chi2_red: float
     band: tuple
     rms_pct: float
@@ -63,7 +108,7 @@ def compare_modal(arm: ArmModel, data: ModalData, effects=(), freq_noise: float 
     >>> q = robot.pose("P1")
     >>> m = ModalData(poses=["P1"], q=[q], modes=[1], freq_hz=[8.0])
     >>> cmp = compare_modal(arm, m)
-    >>> len(cmp.table), cmp.table[0]["mode"]
+    >>> len(cmp.table), cmp.table[0].mode
     (1, 1)
     """
     # Measured modes are assigned to model modes by frequency, pose by pose; a row
@@ -73,26 +118,62 @@ def compare_modal(arm: ArmModel, data: ModalData, effects=(), freq_noise: float 
     f_meas = np.asarray(data.freq_hz, float)
     err = f_model - f_meas
     rel = err / f_meas
-    rows = [{"pose": str(p), "mode": int(m), "model_mode": int(k), "matched": bool(ok),
-             "measured_hz": float(a), "model_hz": float(b), "error_hz": float(e),
-             "error_pct": float(100 * r)}
+    rows = [ModalError(str(p), int(m), int(k), bool(ok), float(a), float(b), float(e),
+                       float(100 * r))
             for p, m, k, ok, a, b, e, r in zip(data.poses, data.modes, match.model_mode,
                                                match.matched, f_meas, f_model, err, rel,
                                                strict=True)]
     z = rel[match.matched] / freq_noise
     n = max(len(z), 1)
-    return ModalComparison(f_model, rows, float(z @ z / n), chi2_band(n),
+    return ModalComparison(f_model, tuple(rows), float(z @ z / n), chi2_band(n),
                            float(100 * np.sqrt(np.mean(z**2)) * freq_noise) if z.size else 0.0)
 
 
 @dataclass(frozen=True)
+class FrfError:
+    """Error of the model receptance on one pose and input/output pair (a row of
+    ``frf_errors.csv``).
+
+    Attributes
+    ----------
+    pose : str
+        Pose label.
+    input, output : str
+        Force input and displacement output axis (``"x"``, ``"y"``, ``"z"``).
+    rms_log10_mag : float
+        RMS of ``log10 |H_meas / H_model|`` over the measured lines (dimensionless).
+    peak_meas_hz, peak_model_hz : float
+        Frequency of the largest measured and model ``|H|`` on those lines [Hz].
+    peak_error_pct : float
+        ``peak_model_hz - peak_meas_hz`` relative to ``peak_meas_hz`` [%].
+    """
+
+    pose: str
+    input: str
+    output: str
+    rms_log10_mag: float
+    peak_meas_hz: float
+    peak_model_hz: float
+    peak_error_pct: float
+
+
+@dataclass(frozen=True)
 class FrfComparison:
-    """Result of :func:`compare_frf`: the model receptance per row and a table per pose
-    and input/output pair (rms_log10_mag, peak_meas_hz, peak_model_hz, peak_error_pct)."""
+    """Result of :func:`compare_frf`.
+
+    Attributes
+    ----------
+    data : FrfData
+        The measurements compared.
+    predicted : (n,) complex
+        Model receptance at each measured line [m/N].
+    table : tuple of FrfError
+        One row per pose and input/output pair, in order of first appearance.
+    """
 
     data: FrfData
     predicted: np.ndarray
-    table: list
+    table: tuple[FrfError, ...]
 
 
 def _groups(data: FrfData) -> dict:
@@ -118,18 +199,12 @@ def compare_frf(arm: ArmModel, data: FrfData, effects=(),
         lr = np.log10(np.abs(meas[ok]) / np.abs(pred[ok]))
         fm, fp = f[np.argmax(np.abs(meas))], f[np.argmax(np.abs(pred))]
         pose, io = key.split(":")
-        table.append({"pose": pose, "input": io[0], "output": io[1],
-                      "rms_log10_mag": float(np.sqrt(np.mean(lr**2))) if lr.size else 0.0,
-                      "peak_meas_hz": float(fm), "peak_model_hz": float(fp),
-                      "peak_error_pct": float(100 * (fp - fm) / fm) if fm > 0 else 0.0})
-    return FrfComparison(data, H, table)
-
-
-def _write_csv(path: Path, rows: list) -> None:
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
+        table.append(FrfError(
+            pose=pose, input=io[0], output=io[1],
+            rms_log10_mag=float(np.sqrt(np.mean(lr**2))) if lr.size else 0.0,
+            peak_meas_hz=float(fm), peak_model_hz=float(fp),
+            peak_error_pct=float(100 * (fp - fm) / fm) if fm > 0 else 0.0))
+    return FrfComparison(data, H, tuple(table))
 
 
 def write_modal_report(folder, cmp: ModalComparison) -> list[Path]:
@@ -139,14 +214,14 @@ def write_modal_report(folder, cmp: ModalComparison) -> list[Path]:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     out = [folder / "modal_errors.csv", folder / "frequency_errors.png"]
-    _write_csv(out[0], cmp.table)
-    poses = list(dict.fromkeys(r["pose"] for r in cmp.table))
-    modes = sorted({r["mode"] for r in cmp.table})
+    write_rows(out[0], ModalError, cmp.table)
+    poses = list(dict.fromkeys(r.pose for r in cmp.table))
+    modes = sorted({r.mode for r in cmp.table})
     width = 0.8 / max(len(modes), 1)
     fig, ax = plt.subplots(figsize=(1.2 + 1.4 * len(poses), 3))
     for k, m in enumerate(modes):
-        vals = [next((r["error_pct"] for r in cmp.table if r["pose"] == p and r["mode"] == m),
-                     np.nan) for p in poses]
+        vals = [next((r.error_pct for r in cmp.table if r.pose == p and r.mode == m), np.nan)
+                for p in poses]
         ax.bar(np.arange(len(poses)) + (k - (len(modes) - 1) / 2) * width, vals, width,
                label=f"mode {m}", color=f"C{k}")
     ax.axhline(0, color="k", lw=0.6)
@@ -167,7 +242,7 @@ def write_frf_report(folder, cmp: FrfComparison) -> list[Path]:
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     out = [folder / "frf_errors.csv", folder / "frf_overlay.png"]
-    _write_csv(out[0], cmp.table)
+    write_rows(out[0], FrfError, cmp.table)
     groups = _groups(cmp.data)
     n = len(groups)
     fig, axes = plt.subplots(2, n, figsize=(3.2 * n, 4.6), squeeze=False, sharex="col")

@@ -12,26 +12,43 @@ and their intervals exclude zero; (6) add it and repeat.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
 from ..assembly.system import ArmModel
 from .candidates import Screen, library, load_proposal, screen, status_of
 from .explain import explain, static_notes
-from .fit import Problem, baseline_effects, chi2_band, fit_model, heldout_rms
+from .fit import FitResult, Problem, baseline_effects, chi2_band, fit_model, heldout_rms
 from .measurements import ModalData, StaticData
 from .modal import ModalProblem
 from .tolerances import tol
 
-__all__ = ["CandidateReport", "Step", "Diagnosis", "diagnose"]
+__all__ = ["CandidateReport", "Checks", "Winner", "Step", "Identifiability", "Diagnosis",
+           "diagnose"]
 
 log = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
 class CandidateReport:
-    """Outcome for one candidate: status is accepted|rejected|aliased|untestable."""
+    """Outcome for one candidate against one model version.
+
+    Attributes
+    ----------
+    name, label : str
+        Candidate key (``"backlash_j2"``) and its readable name (``"joint 2 backlash"``).
+    status : str
+        ``"accepted"``, ``"rejected"``, ``"aliased"`` or ``"untestable"``.
+    dbic : float
+        ΔBIC of the score test against the current model (dimensionless; > 0 favours it).
+    unique : float
+        Share of the candidate's whitened signature the current model cannot mimic (0-1).
+    norm : float
+        Whitened norm of its signature at typical size [noise sigma].
+    detail : str
+        Why this status (alias partner, loads that would test it, failed checks).
+    """
 
     name: str
     label: str
@@ -43,8 +60,108 @@ class CandidateReport:
 
 
 @dataclass(frozen=True)
+class Checks:
+    """Acceptance checks of the refitted best candidate; it is accepted if all pass.
+
+    Attributes
+    ----------
+    dbic : bool
+        ΔBIC of the physical refit > ``tol.delta_bic_accept``.
+    heldout : bool
+        Held-out RMS below ``tol.heldout_gain`` times the current model's (True when
+        the diagnosis runs without held-out validation).
+    plausible : bool
+        Fitted amplitudes inside their physical range.
+    interval : bool
+        Their ``tol.interval_z`` sigma intervals exclude zero (one is enough for the
+        coupled wrist).
+    distinct : bool
+        No aliased candidate correlated with it explains more (False: it is a proxy).
+    """
+
+    dbic: bool
+    heldout: bool
+    plausible: bool
+    interval: bool
+    distinct: bool = True
+
+    @property
+    def passed(self) -> bool:
+        return all(getattr(self, f.name) for f in fields(self))
+
+    @property
+    def failed(self) -> tuple[str, ...]:
+        """Names of the failed checks, in field order."""
+        return tuple(f.name for f in fields(self) if not getattr(self, f.name))
+
+
+@dataclass(frozen=True)
+class Winner:
+    """The best-ranked candidate of one step, refitted with the current model.
+
+    Attributes
+    ----------
+    name, label : str
+        Candidate key and readable name.
+    dbic : float
+        ΔBIC of the physical refit against the current model (dimensionless).
+    params : dict of str -> (float, float)
+        Fitted amplitude name -> (value, standard deviation), SI units of the effect's
+        parameter (e.g. rad for a backlash width, rad/(N m) for a compliance).
+    grid_name : str or None
+        Shape parameter found by search (``"threshold"``, ``"radius"``), if any.
+    grid_value : float or None
+        Its fitted value, SI (e.g. N m).
+    grid_sd : float
+        Its standard deviation, SI (NaN without a shape parameter).
+    checks : Checks
+        The acceptance checks.
+    chi2_red_after : float
+        chi^2_red of the model with this candidate added.
+    rms_heldout_after, rms_fit_after : float
+        Held-out RMS (0 without held-out validation) and fitted RMS of that model [m].
+    """
+
+    name: str
+    label: str
+    dbic: float
+    params: dict[str, tuple[float, float]]
+    grid_name: str | None
+    grid_value: float | None
+    grid_sd: float
+    checks: Checks
+    chi2_red_after: float
+    rms_heldout_after: float
+    rms_fit_after: float
+
+
+@dataclass(frozen=True)
 class Step:
-    """One model version and the candidate ranking against it."""
+    """One model version and the candidate ranking against it.
+
+    Attributes
+    ----------
+    label : str
+        ``"baseline + joint 2 backlash + ..."``.
+    effects : tuple of Effect
+        The fitted model (SI parameters).
+    chi2_red : float
+        GLS chi^2 per degree of freedom with the stated noise.
+    band : (float, float)
+        Its acceptance band for ``dof``.
+    dof : float
+        Degrees of freedom (observations minus effective fitted parameters).
+    rms_fit, rms_heldout : float
+        RMS residual of the fitted and of the held-out series [m] (NaN: not computed).
+    candidates : tuple of CandidateReport
+        Ranked: accepted, rejected, aliased, untestable; by ΔBIC within each.
+    winner : Winner or None
+        The refitted best testable candidate (None if there was none).
+    accepted : bool
+        ``winner`` passed every check.
+    explanation : str
+        The winner explained in one sentence.
+    """
 
     label: str
     effects: tuple
@@ -54,17 +171,61 @@ class Step:
     rms_fit: float
     rms_heldout: float
     candidates: tuple = ()
-    winner: dict | None = None
+    winner: Winner | None = None
     accepted: bool = False
     explanation: str = ""
 
 
 @dataclass(frozen=True)
+class Identifiability:
+    """How well the data determine the baseline (per-joint torsion compliance scales).
+
+    Attributes
+    ----------
+    singular_values : tuple of float, (n_free,)
+        Singular values of the whitened sensitivity matrix (whitened residual per unit
+        compliance scale, dimensionless), largest first.
+    condition : float
+        Largest over smallest singular value (NaN without free parameters).
+    correlation : tuple of tuple of float, (n_free, n_free)
+        Correlation matrix of the fitted scales.
+    stderr : tuple of float, (n_free,)
+        Standard deviation of each fitted scale (dimensionless; nominal scale 1).
+    sign_changes : dict of str -> tuple of str
+        ``"joint_1"`` ... -> the series in which that joint's torque changes sign.
+    leave_one_pose_out : dict of str -> float
+        Pose label -> chi^2_red on that pose with the model fitted on the other poses
+        (empty with fewer than three poses).
+    """
+
+    singular_values: tuple[float, ...]
+    condition: float
+    correlation: tuple[tuple[float, ...], ...]
+    stderr: tuple[float, ...]
+    sign_changes: dict[str, tuple[str, ...]]
+    leave_one_pose_out: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
 class Diagnosis:
-    """All steps, the identifiability report and the final accepted effects."""
+    """All steps, the identifiability report and the final accepted effects.
+
+    Attributes
+    ----------
+    steps : tuple of Step
+        One per model version, the baseline first.
+    identifiability : Identifiability
+        Of the baseline fit.
+    accepted : tuple of Effect
+        The accepted effects with their fitted parameters (SI).
+    final_effects : tuple of Effect
+        The full final model (baseline scales included).
+    notes : tuple of str
+        Effects these data cannot test, and why.
+    """
 
     steps: tuple
-    identifiability: dict
+    identifiability: Identifiability
     accepted: tuple
     final_effects: tuple
     notes: tuple = field(default_factory=tuple)
@@ -74,13 +235,26 @@ class Diagnosis:
         return self.steps[-1]
 
 
+@dataclass(frozen=True)
+class _Refit:
+    """The best candidate refitted: the winner and the model it would give."""
+
+    winner: Winner
+    fit: FitResult
+    free: list
+    scales: np.ndarray
+    proxies: tuple
+    explanation: str
+
+
 def _rms(problem: Problem, effects) -> float:
     r = (problem.y - problem.predict(effects))[~problem.is_ref]
     return float(np.sqrt(np.mean(r**2))) if r.size else float("nan")
 
 
-def identifiability(problem: Problem, fit) -> dict:
-    """SVD of the whitened baseline sensitivities, correlations, torque sign changes."""
+def identifiability(problem: Problem, fit) -> Identifiability:
+    """SVD of the whitened baseline sensitivities, correlations, torque sign changes
+    (``leave_one_pose_out`` left empty: :func:`leave_one_pose_out`)."""
     X = fit.sensitivity
     sv = np.linalg.svd(X, compute_uv=False) if X.size else np.zeros(0)
     sd = fit.stderr
@@ -89,11 +263,12 @@ def identifiability(problem: Problem, fit) -> dict:
     for j in range(problem.arm.chain.n_joints):
         series = [str(problem.data.series[g[0]]) for g in problem.groups
                   if np.any(np.diff(np.sign(problem.tau[g, j])) != 0)]
-        flips.append(series)
-    return {"singular_values": sv.tolist(), "condition": float(sv.max() / max(sv.min(), 1e-300))
-            if sv.size else float("nan"),
-            "correlation": corr.tolist(), "stderr": sd.tolist(),
-            "sign_changes": {f"joint_{j + 1}": s for j, s in enumerate(flips)}}
+        flips.append(tuple(series))
+    return Identifiability(
+        singular_values=tuple(sv.tolist()),
+        condition=float(sv.max() / max(sv.min(), 1e-300)) if sv.size else float("nan"),
+        correlation=tuple(map(tuple, corr.tolist())), stderr=tuple(sd.tolist()),
+        sign_changes={f"joint_{j + 1}": s for j, s in enumerate(flips)})
 
 
 def leave_one_pose_out(problem: Problem, effects, free, scales, prior) -> dict:
@@ -143,7 +318,7 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
     scales = np.ones(len(free))
     prior = {f: (1.0, tol.baseline_prior_sd) for f in free}
     cands = library(problem)
-    steps, accepted, ident = [], [], {}
+    steps, accepted, ident = [], [], None
     label = "baseline"
     n_shape = 0  # shape parameters (thresholds, radii) of the accepted effects: fixed, counted
     for it in range(max_effects + 1):
@@ -151,99 +326,141 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
         band = chi2_band(fr.dof)
         cur_ho = heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan
         if it == 0:
-            ident = identifiability(problem, fr)
-            ident["leave_one_pose_out"] = leave_one_pose_out(problem, effects, free, scales,
-                                                              prior)
-        base_step = dict(label=label, effects=fr.effects, chi2_red=fr.chi2_red, band=band,
-                         dof=fr.dof, rms_fit=_rms(problem, fr.effects), rms_heldout=cur_ho)
-        done = {e.kind + (f"_j{e.joint + 1}" if e.joint is not None else "") for e in accepted}
-        screens = [screen(problem, fr, c) for c in cands if c.name not in done]
-        testable = sorted((s for s in screens if status_of(s) is None), key=lambda s: -s.dbic)
-        reports, winner, ok, text, proxies = [], None, False, "", []
-        if testable:
-            best: Screen = testable[0]
-            c = best.candidate
-            fr2, free2, scales2, keep, grid_sd = _refit(problem, fr, free, scales, prior, best,
-                                                        n_shape)
-            theta = fr2.theta[len(free):]
-            se = fr2.stderr[len(free):]
-            dbic = fr.chi2 - fr2.chi2 - c.n_params * np.log(fr.n_obs)
-            new_ho = heldout_rms(problem, fr2.effects, free2, scales2, prior) if heldout else 0.0
-            excl = np.abs(theta) > tol.interval_z * se
-            checks = {"dbic": dbic > tol.delta_bic_accept,
-                      "heldout": bool(new_ho < tol.heldout_gain * cur_ho) if heldout else True,
-                      "plausible": _plausible(c.kind, theta),
-                      "interval": bool(excl.any() if c.kind == "wrist" else excl.all())}
-            proxies = [s for s in screens if status_of(s) == "aliased" and s.dchi2 > best.dchi2
-                       and _corr(s.columns, best.columns) > tol.proxy_correlation]
-            if proxies:
-                checks["distinct"] = False
-            ok = all(checks.values())
-            winner = {"name": c.name, "label": c.label, "dbic": float(dbic),
-                      "params": {a: (float(t), float(s)) for a, t, s in
-                                 zip(keep, theta, se, strict=True)},
-                      "grid": None if c.grid_name is None else
-                      (c.grid_name, fr2.effects[-1].get(c.grid_name)),
-                      "grid_sd": grid_sd,
-                      "checks": checks, "chi2_red_after": fr2.chi2_red,
-                      "rms_heldout_after": new_ho, "rms_fit_after": _rms(problem, fr2.effects)}
-            text = explain(problem, c, fr2.effects[-1], theta, se)
-        for s in screens:
-            st = status_of(s)
-            c = s.candidate
-            detail = ""
-            if st == "untestable" and c.joint is not None and not np.any(
-                    np.abs(problem.J[:, :, c.joint]) > 1e-9):
-                detail = (f"joint {c.joint + 1} turns the TCP about its own axis: invisible in "
-                          f"TCP translations; measure TCP rotations (rx, ry, rz)")
-            elif st == "untestable":
-                detail = ("add these loads: " + load_proposal(problem, c.joint, c.kind,
-                                                              extra_poses=poses)
-                          if c.kind in ("backlash", "hysteresis") else
-                          "the data barely load it: add poses/loads that do")
-            elif st == "aliased" and c.kind == "links":
-                detail = _links_note(problem, fr, s, "aliased")
-            elif st == "aliased":
-                detail = _mimic(problem, fr, s)
-            elif winner and c.name == winner["name"] and proxies:
-                p = max(proxies, key=lambda x: x.dchi2)
-                st = "aliased"
-                detail = (f"with {p.candidate.label} (a proxy: their unique signatures correlate "
-                          f"{_corr(p.columns, s.columns):.2f} and {p.candidate.label} explains "
-                          f"more, dchi2 {p.dchi2:.0f} vs {s.dchi2:.0f})")
-            elif winner and c.name == winner["name"]:
-                st = "accepted" if ok else "rejected"
-                detail = "" if ok else "failed: " + ", ".join(k for k, v in
-                                                              winner["checks"].items() if not v)
-            else:
-                st, detail = "rejected", ""
-                if winner and _corr(s.columns, testable[0].columns) > tol.alias_correlation:
-                    st, detail = "aliased", f"with {winner['label']} (same pattern on this data)"
-            if c.kind == "base":
-                detail = (detail + "; " if detail else "") + _base_note(screens)
-            if c.kind == "links" and st in ("rejected", "untestable"):
-                detail = (detail + "; " if detail else "") + _links_note(problem, fr, s, st)
-            reports.append(CandidateReport(c.name, c.label, st, s.dbic, s.unique, s.norm, detail))
-        order = {"accepted": 0, "rejected": 1, "aliased": 2, "untestable": 3}
-        reports.sort(key=lambda r: (order[r.status], -r.dbic))
-        steps.append(Step(**base_step, candidates=tuple(reports), winner=winner,
-                          accepted=ok, explanation=text))
-        if not ok:
+            ident = replace(identifiability(problem, fr), leave_one_pose_out=leave_one_pose_out(
+                problem, effects, free, scales, prior))
+        version = Step(label, fr.effects, fr.chi2_red, band, fr.dof, _rms(problem, fr.effects),
+                       cur_ho)
+        step, refit = _round(problem, fr, version, cands, accepted, free, scales, prior, n_shape,
+                             heldout, poses)
+        steps.append(step)
+        if not step.accepted:
             break
-        effects, free, scales = list(fr2.effects), free2, scales2
-        n_shape = fr2.n_shape
-        accepted.append(fr2.effects[-1])
-        label = label + " + " + testable[0].candidate.label
+        effects, free, scales = list(refit.fit.effects), refit.free, refit.scales
+        n_shape = refit.fit.n_shape
+        accepted.append(refit.fit.effects[-1])
+        label = label + " + " + refit.winner.label
     if steps[-1].accepted:  # the loop ran out of iterations after an acceptance
-        fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
-        steps.append(Step(label, fr.effects, fr.chi2_red, chi2_band(fr.dof), fr.dof,
-                          _rms(problem, fr.effects),
-                          heldout_rms(problem, effects, free, scales, prior) if heldout
-                          else np.nan))
+        steps.append(_last_version(problem, label, effects, free, scales, prior, n_shape,
+                                   heldout))
     log.info("diagnosis done: %d effects accepted", len(accepted))
     return Diagnosis(tuple(steps), ident, tuple(accepted), tuple(steps[-1].effects),
-                     static_notes(arm, links_tested=flexible is not None)
-                     + tuple("modal data: " + u for u in getattr(problem, "unmatched", ())))
+                     _notes(arm, problem, flexible))
+
+
+def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, prior,
+           n_shape: int, heldout: bool, poses):
+    """One round against the model version ``version`` (fitted as ``fr``): screen the
+    candidates not yet accepted, refit the best testable one, rank them all.
+
+    Returns ``version`` with the ranking and the winner, and the refit (None if no
+    candidate was testable)."""
+    done = {e.kind + (f"_j{e.joint + 1}" if e.joint is not None else "") for e in accepted}
+    screens = [screen(problem, fr, c) for c in cands if c.name not in done]
+    testable = sorted((s for s in screens if status_of(s) is None), key=lambda s: -s.dbic)
+    best = testable[0] if testable else None
+    refit = None if best is None else _refit_best(problem, fr, best, screens, free, scales,
+                                                  prior, n_shape, version.rms_heldout, heldout)
+    reports = [_report(problem, fr, s, screens, best, refit, poses) for s in screens]
+    order = {"accepted": 0, "rejected": 1, "aliased": 2, "untestable": 3}
+    reports.sort(key=lambda r: (order[r.status], -r.dbic))
+    if refit is None:
+        return replace(version, candidates=tuple(reports)), None
+    return replace(version, candidates=tuple(reports), winner=refit.winner,
+                   accepted=refit.winner.checks.passed, explanation=refit.explanation), refit
+
+
+def _refit_best(problem: Problem, fr, best: Screen, screens, free, scales, prior,
+                n_shape: int, cur_ho: float, heldout: bool) -> _Refit:
+    """Refit the best testable candidate with the current model and check it for
+    acceptance (module docstring, step 5)."""
+    c = best.candidate
+    fr2, free2, scales2, keep, grid_sd = _refit(problem, fr, free, scales, prior, best, n_shape)
+    theta = fr2.theta[len(free):]
+    se = fr2.stderr[len(free):]
+    dbic = fr.chi2 - fr2.chi2 - c.n_params * np.log(fr.n_obs)
+    new_ho = heldout_rms(problem, fr2.effects, free2, scales2, prior) if heldout else 0.0
+    excl = np.abs(theta) > tol.interval_z * se
+    # A proxy: an aliased candidate whose unique signature correlates with the best one's
+    # and which would explain more of the residual.
+    proxies = [s for s in screens if status_of(s) == "aliased" and s.dchi2 > best.dchi2
+               and _corr(s.columns, best.columns) > tol.proxy_correlation]
+    checks = Checks(dbic=bool(dbic > tol.delta_bic_accept),
+                    heldout=bool(new_ho < tol.heldout_gain * cur_ho) if heldout else True,
+                    plausible=_plausible(c.kind, theta),
+                    interval=bool(excl.any() if c.kind == "wrist" else excl.all()),
+                    distinct=not proxies)
+    winner = Winner(
+        name=c.name, label=c.label, dbic=float(dbic),
+        params={a: (float(t), float(s)) for a, t, s in zip(keep, theta, se, strict=True)},
+        grid_name=c.grid_name,
+        grid_value=None if c.grid_name is None else fr2.effects[-1].get(c.grid_name),
+        grid_sd=grid_sd, checks=checks, chi2_red_after=fr2.chi2_red,
+        rms_heldout_after=new_ho, rms_fit_after=_rms(problem, fr2.effects))
+    return _Refit(winner, fr2, free2, scales2, tuple(proxies),
+                  explain(problem, c, fr2.effects[-1], theta, se))
+
+
+def _report(problem: Problem, fr, s: Screen, screens, best: Screen | None,
+            refit: _Refit | None, poses) -> CandidateReport:
+    """The status of the screened candidate ``s`` in this round and why."""
+    c = s.candidate
+    st, detail = _status(problem, fr, s, best, refit, poses)
+    if c.kind == "base":
+        detail = (detail + "; " if detail else "") + _base_note(screens)
+    if c.kind == "links" and st in ("rejected", "untestable"):
+        detail = (detail + "; " if detail else "") + _links_note(problem, fr, s, st)
+    return CandidateReport(c.name, c.label, st, s.dbic, s.unique, s.norm, detail)
+
+
+def _status(problem: Problem, fr, s: Screen, best: Screen | None, refit: _Refit | None,
+            poses) -> tuple[str, str]:
+    """Status and detail of ``s`` before the notes on the base and link candidates."""
+    st = status_of(s)
+    c = s.candidate
+    winner = None if refit is None else refit.winner
+    if st == "untestable":
+        return st, _untestable_detail(problem, c, poses)
+    if st == "aliased":
+        return st, (_links_note(problem, fr, s, "aliased") if c.kind == "links"
+                    else _mimic(problem, fr, s))
+    if winner is not None and c.name == winner.name and refit.proxies:
+        p = max(refit.proxies, key=lambda x: x.dchi2)
+        return "aliased", (f"with {p.candidate.label} (a proxy: their unique signatures "
+                           f"correlate {_corr(p.columns, s.columns):.2f} and "
+                           f"{p.candidate.label} explains more, dchi2 {p.dchi2:.0f} vs "
+                           f"{s.dchi2:.0f})")
+    if winner is not None and c.name == winner.name:
+        ok = winner.checks.passed
+        return ("accepted" if ok else "rejected",
+                "" if ok else "failed: " + ", ".join(winner.checks.failed))
+    if winner is not None and _corr(s.columns, best.columns) > tol.alias_correlation:
+        return "aliased", f"with {winner.label} (same pattern on this data)"
+    return "rejected", ""
+
+
+def _untestable_detail(problem: Problem, c, poses) -> str:
+    """Why candidate ``c`` cannot be tested on these data, and what data would test it."""
+    if c.joint is not None and not np.any(np.abs(problem.J[:, :, c.joint]) > 1e-9):
+        return (f"joint {c.joint + 1} turns the TCP about its own axis: invisible in "
+                f"TCP translations; measure TCP rotations (rx, ry, rz)")
+    if c.kind in ("backlash", "hysteresis"):
+        return "add these loads: " + load_proposal(problem, c.joint, c.kind, extra_poses=poses)
+    return "the data barely load it: add poses/loads that do"
+
+
+def _last_version(problem: Problem, label: str, effects, free, scales, prior, n_shape: int,
+                  heldout: bool) -> Step:
+    """The model after the last acceptance when the rounds ran out (not screened)."""
+    fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
+    return Step(label, fr.effects, fr.chi2_red, chi2_band(fr.dof), fr.dof,
+                _rms(problem, fr.effects),
+                heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan)
+
+
+def _notes(arm: ArmModel, problem: Problem, flexible: ArmModel | None) -> tuple[str, ...]:
+    """Effects these data cannot test, and measured modes no model mode matched."""
+    return (static_notes(arm, links_tested=flexible is not None)
+            + tuple("modal data: " + u for u in getattr(problem, "unmatched", ())))
 
 
 def _refit(problem: Problem, fr, free, scales, prior, best: Screen, n_shape: int = 0):

@@ -28,11 +28,16 @@ def test_compare_modal_exact_and_wrong_stiffness(tmp_path, demo):
     assert len(cmp.table) == 6 and cmp.chi2_red < 1e-12 and cmp.rms_pct < 1e-9
     soft = virtual_modal(arm, _poses(robot), [parse_effect("stiffness:j2=0.5")], 3, 0.0)
     cmp = compare_modal(arm, soft)
-    errs = np.array([r["error_pct"] for r in cmp.table])
+    errs = np.array([r.error_pct for r in cmp.table])
     assert np.all(errs >= -1e-9) and errs.max() > 2  # the model is stiffer: too high
     assert cmp.chi2_red > cmp.band[1]
     paths = write_modal_report(tmp_path, cmp)
     assert all(p.stat().st_size > 0 for p in paths)
+    lines = paths[0].read_text().splitlines()
+    assert lines[0] == "pose,mode,model_mode,matched,measured_hz,model_hz,error_hz,error_pct"
+    r = cmp.table[0]
+    assert lines[1] == (f"{r.pose},{r.mode},{r.model_mode},{r.matched},{r.measured_hz!r},"
+                        f"{r.model_hz!r},{r.error_hz!r},{r.error_pct!r}")
 
 
 def test_compare_modal_matches_by_frequency_and_drops_spurious_lines(demo):
@@ -48,8 +53,8 @@ def test_compare_modal_matches_by_frequency_and_drops_spurious_lines(demo):
         q=list(np.asarray(exact.q)[order]) + [exact.q[3]],
         modes=list(np.asarray(exact.modes)[order]) + [4], freq_hz=f)
     cmp = compare_modal(arm, swapped)
-    assert [r["model_mode"] for r in cmp.table[:3]] == [1, 3, 2]
-    assert [r["matched"] for r in cmp.table] == [True] * 6 + [False]
+    assert [r.model_mode for r in cmp.table[:3]] == [1, 3, 2]
+    assert [r.matched for r in cmp.table] == [True] * 6 + [False]
     # the spurious line is shown but not scored: the matched rows are exact
     assert cmp.chi2_red < 1e-12 and cmp.rms_pct < 1e-9
 
@@ -74,9 +79,9 @@ def test_compare_frf_exact_and_shifted(tmp_path, demo):
     robot, arm = demo
     cmp = compare_frf(arm, _frf_data(arm, robot))
     assert len(cmp.table) == 2
-    assert all(r["rms_log10_mag"] < 1e-9 and abs(r["peak_error_pct"]) < 1e-9 for r in cmp.table)
+    assert all(r.rms_log10_mag < 1e-9 and abs(r.peak_error_pct) < 1e-9 for r in cmp.table)
     cmp = compare_frf(arm, _frf_data(arm, robot, [parse_effect("stiffness:j2=0.5")]))
-    assert max(r["rms_log10_mag"] for r in cmp.table) > 0.05
+    assert max(r.rms_log10_mag for r in cmp.table) > 0.05
     paths = write_frf_report(tmp_path, cmp)
     assert all(p.stat().st_size > 0 for p in paths)
 

@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 from scipy.stats import chi2
 
-from flexarm.validation.diagnose import diagnose
+from flexarm.validation.diagnose import Checks, diagnose
 from flexarm.validation.fit import Problem
 
 from .conftest import covers, noise_alone
@@ -61,9 +61,9 @@ def _check_fit(final, noise=None):
 def _found(dg, name, param, truth, noise=None):
     """One hidden effect: ranked first, accepted, interval covers ``truth``, nothing else."""
     first = dg.steps[0]
-    assert first.winner["name"] == name and first.accepted, first.winner
+    assert first.winner.name == name and first.accepted, first.winner
     after = dg.steps[1]
-    value, sd = first.winner["params"][param]
+    value, sd = first.winner.params[param]
     assert covers(value, sd, truth), (value, sd, truth)
     assert not after.accepted  # nothing else
     assert after.rms_heldout < first.rms_heldout
@@ -153,17 +153,17 @@ def _run(demo, lab, sc: Scenario, seed: int) -> Outcome:
     dg = diagnose(arm, data)
     chi_truth, rms_noise, n_obs = noise_alone(Problem(arm, data), data, clean)
     steps, k = dg.steps, len(sc.expect)
-    wins = [s.winner["name"] if s.winner else None for s in steps]
+    wins = [s.winner.name if s.winner is not None else None for s in steps]
     names = {e[0] for e in sc.expect}
     found = (len(dg.accepted) == k and all(s.accepted for s in steps[:k])
              and set(wins[:k]) == names)
     covered = True
     for name, param, truth in sc.expect:
-        step = next((s for s in steps if s.accepted and s.winner["name"] == name), None)
+        step = next((s for s in steps if s.accepted and s.winner.name == name), None)
         if step is None:
             covered = False
             continue
-        value, sd = step.winner["params"][param]
+        value, sd = step.winner.params[param]
         covered &= covers(value, sd, truth(arm) if callable(truth) else truth)
     final = dg.final
     return Outcome(seed, dg, found, bool(covered), final.chi2_red, final.band, final.dof,
@@ -189,6 +189,18 @@ def test_1_backlash_joint2_found(demo, lab):
     dg, _ = _check(demo, lab, "1_backlash_j2")
     step = dg.steps[0]
     assert "changes sign" in step.explanation and "P2_+z" in step.explanation
+    assert step.winner.checks.passed and step.winner.checks.failed == ()
+    ident = dg.identifiability
+    assert len(ident.singular_values) == len(ident.stderr) == 6
+    assert set(ident.leave_one_pose_out) == {"P1", "P2", "P3"}
+    assert ident.sign_changes["joint_2"] == ("P2_+z",)
+
+
+def test_checks_report_failures_in_order():
+    c = Checks(dbic=True, heldout=False, plausible=True, interval=False)
+    assert not c.passed and c.failed == ("heldout", "interval")
+    assert Checks(True, True, True, True).passed
+    assert Checks(True, True, True, True, distinct=False).failed == ("distinct",)
 
 
 def test_8_wrong_stiffness_no_effect(demo, lab):
@@ -209,9 +221,10 @@ def test_11_shared_reference_trap(demo, lab):
         ours = diagnose(demo[1], data, heldout=False, max_effects=0)
         naive_out += not (naive.steps[0].band[0] <= naive.steps[0].chi2_red
                           <= naive.steps[0].band[1])
-        naive_hit += naive.steps[0].winner["dbic"] > 10 if naive.steps[0].winner else 0
+        naive_hit += (naive.steps[0].winner.dbic > 10 if naive.steps[0].winner is not None
+                      else 0)
         ours_out += ours.steps[0].chi2_red > ours.steps[0].band[1]
-        assert ours.steps[0].winner["dbic"] < 10
+        assert ours.steps[0].winner.dbic < 10
     assert naive_out == 4 and ours_out == 0  # naive: "something is missing", every seed
 
 
@@ -239,7 +252,7 @@ def test_2_backlash_never_reversing_untestable(demo, lab):
 
 def test_3_hardening_joint1_found(demo, lab):
     dg, _ = _check(demo, lab, "3_hardening_j1")
-    assert abs(dg.steps[0].winner["grid"][1] - 400) < 40
+    assert abs(dg.steps[0].winner.grid_value - 400) < 40
     assert dg.final.dof == pytest.approx(dg.steps[0].dof - 2, abs=0.01)  # extra + threshold
 
 

@@ -68,8 +68,9 @@ def test_7_seed_sweep(demo, flex, lab):
         chi_t, _, n_obs = noise_alone(pb, data, lab(HIDDEN, model=ea, flexible=fa, noise=0.0),
                                       _truth(demo, flex, freq_noise=0.0))
         first, final = dg.steps[0], dg.final
-        ok = ([e.kind for e in dg.accepted] == ["links"] and first.winner["name"] == "links")
-        value, sd = first.winner["params"]["compliance"] if first.winner else (np.nan, 0.0)
+        ok = ([e.kind for e in dg.accepted] == ["links"] and first.winner.name == "links")
+        value, sd = (first.winner.params["compliance"] if first.winner is not None
+                     else (np.nan, 0.0))
         found += ok
         covered += ok and covers(value, sd, 1.0)
         inside += ok and final.band[0] <= final.chi2_red <= final.band[1]

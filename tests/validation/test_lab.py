@@ -39,7 +39,7 @@ def test_compare_exact_model_in_band(demo, lab):
     d = lab(seed=2, perturb=(1,) * 6)
     cmp = compare_static(demo[1], d)
     assert cmp.band[0] - 0.05 < cmp.chi2_red < cmp.band[1]
-    assert {r["pose"] for r in cmp.table} == {"P1", "P2", "P3"}
+    assert {r.pose for r in cmp.table} == {"P1", "P2", "P3"}
 
 
 def test_apply_roundtrip(tmp_path, demo):
