@@ -6,30 +6,10 @@ the test module that needs it (with ``scope="module"``).
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 import pytest
 
 from flexarm.fe import MATERIALS, Material, TetMesh, select_nodes
-
-
-@pytest.fixture(scope="session", autouse=True)
-def _session_cache(tmp_path_factory):
-    """One cache folder for the whole run: tet meshes, mass properties and superelements
-    are computed once and shared by every test that asks for the same inputs.
-
-    Never the user's cache.  ``FLEXARM_TEST_CACHE=DIR`` keeps it between runs (the demo
-    arm's links take minutes to mesh cold); tests that need an empty cache set their own.
-    """
-    old = os.environ.get("FLEXARM_CACHE")
-    keep = os.environ.get("FLEXARM_TEST_CACHE")
-    os.environ["FLEXARM_CACHE"] = keep or str(tmp_path_factory.mktemp("flexarm_cache"))
-    yield
-    if old is None:
-        os.environ.pop("FLEXARM_CACHE", None)
-    else:
-        os.environ["FLEXARM_CACHE"] = old
 
 
 @pytest.fixture(scope="session")

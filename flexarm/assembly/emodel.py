@@ -63,7 +63,7 @@ def _mass_properties_dict(link: Link, method: str, mesh_size: float, mesher: str
             "inertia": mp.inertia.tolist()}
 
 
-def link_mass_properties(link: Link, method: str = "tets", mesh_size: float = 0.04,
+def link_mass_properties(link: Link, method: str = "surface", mesh_size: float | None = None,
                          mesher: str = "tetwild"):
     """:class:`MassProperties` of a link (solid mesh + lumped masses) in its link frame.
 
@@ -75,12 +75,15 @@ def link_mass_properties(link: Link, method: str = "tets", mesh_size: float = 0.
         (``meshes.tetrahedralize``, cached); ``"surface"``: trimesh's closed-surface
         integrals of the CAD itself (fast; for watertight CAD only).
     mesh_size : float
-        Tet edge length [m] for ``"tets"``; the integrals are exact for any tet mesh.
+        Tet edge length [m], needed for ``"tets"``; the integrals are exact for any tet
+        mesh.
     mesher : {"tetwild", "gmsh"}
         Tetrahedraliser for ``"tets"`` (the robot's ``model.mesher``).
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got '{method}'")
+    if method == "tets" and mesh_size is None:
+        raise ValueError("link mass properties from tets need the mesh size [m]")
     parts = [] if link.mesh is None else [_mesh_mass_properties(link, method, mesh_size,
                                                                  mesher)]
     parts += [point_mass_properties(m.mass, m.position, m.inertia) for m in link.lumped]
@@ -89,14 +92,16 @@ def link_mass_properties(link: Link, method: str = "tets", mesh_size: float = 0.
     return combine_mass_properties(parts)
 
 
-def total_mass(robot: Robot, method: str = "tets", mesh_size: float = 0.04) -> float:
-    """Total mass of the robot [kg] (links and lumped masses)."""
-    return sum(link_mass_properties(lk, method, mesh_size, robot.options.mesher).mass
+def total_mass(robot: Robot, method: str = "surface", mesh_size: float | None = None) -> float:
+    """Total mass of the robot [kg] (links and lumped masses); ``mesh_size`` [m] of
+    ``method="tets"`` defaults to the robot's."""
+    size = robot.options.mesh_size if mesh_size is None else mesh_size
+    return sum(link_mass_properties(lk, method, size, robot.options.mesher).mass
                for lk in robot.links)
 
 
 def with_total_mass(robot: Robot, mass_kg: float, method: str = "surface",
-                    mesh_size: float = 0.04) -> Robot:
+                    mesh_size: float | None = None) -> Robot:
     """``robot`` with every link's density scaled by one factor so that its total mass
     (CAD solids + lumped masses) is ``mass_kg`` [kg].
 
@@ -105,6 +110,7 @@ def with_total_mass(robot: Robot, mass_kg: float, method: str = "surface",
     """
     import dataclasses
 
+    mesh_size = robot.options.mesh_size if mesh_size is None else mesh_size
     solid = sum(_mesh_mass_properties(lk, method, mesh_size, robot.options.mesher).mass
                 for lk in robot.links if lk.mesh is not None)
     lumped = total_mass(robot, method, mesh_size) - solid
@@ -121,7 +127,7 @@ def with_total_mass(robot: Robot, mass_kg: float, method: str = "surface",
     return dataclasses.replace(robot, links=links)
 
 
-def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04,
+def emodel(robot: Robot, method: str = "surface", mesh_size: float | None = None,
            equivalent: bool = True) -> ArmModel:
     """The rigid-link E-model :class:`ArmModel` of ``robot``.
 
@@ -130,8 +136,8 @@ def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04,
     robot : Robot
     method : {"tets", "surface"}
         Mass properties of the links, see :func:`link_mass_properties`.
-    mesh_size : float
-        Tet edge length [m] for ``"tets"``.
+    mesh_size : float, optional
+        Tet edge length [m] for ``"tets"`` (default: the robot's ``model.mesh_size``).
     equivalent : bool
         Use each joint's *equivalent* E-model joint (``joint.emodel``: bearing in
         series with the bending of the links it carries, stored in the robot file,
@@ -147,6 +153,7 @@ def emodel(robot: Robot, method: str = "tets", mesh_size: float = 0.04,
     12
     """
     log.info("E-model of %s", robot.name)
+    mesh_size = robot.options.mesh_size if mesh_size is None else mesh_size
     chain = robot.chain
     points: list[dict] = [{} for _ in robot.links]
     for j, jt in enumerate(robot.joints):

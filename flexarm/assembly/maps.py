@@ -22,7 +22,7 @@ from ..fe.typing import ArrayLike, FloatArray
 from .analyses import natural_frequencies, tcp_compliance
 from .system import ArmModel
 
-__all__ = ["JointSpaceMap", "stiffness_map", "stiffest", "write_csv", "plot_map"]
+__all__ = ["JointSpaceMap", "stiffness_map", "limits_map", "stiffest", "write_csv", "plot_map"]
 
 log = logging.getLogger(__name__)
 DIRECTIONS = ("x", "y", "z")
@@ -57,6 +57,22 @@ class JointSpaceMap:
     def least_stiff(self) -> np.ndarray:
         """(na, nb) int: index (0=x, 1=y, 2=z) of the least stiff direction."""
         return np.argmin(self.stiffness, axis=-1)
+
+    @property
+    def least_stiff_share(self) -> FloatArray:
+        """(3,) share of the grid [-] on which x, y, z is the least stiff direction."""
+        return np.bincount(self.least_stiff.ravel(), minlength=3) / self.least_stiff.size
+
+    def summary(self) -> str:
+        """Least-stiff shares and the stiffest configuration per direction (text)."""
+        lines = ["least stiff direction share: " + "  ".join(
+            f"{d}={s * 100:.1f}%" for d, s in zip(DIRECTIONS, self.least_stiff_share,
+                                                 strict=True))]
+        for d, (a, b, k) in stiffest(self).items():
+            lines.append(f"stiffest in {d}: q{self.joints[0] + 1}={np.degrees(a):7.1f} deg "
+                         f"q{self.joints[1] + 1}={np.degrees(b):7.1f} deg "
+                         f"K{d}{d}={k * 1e-3:.0f} N/mm")
+        return "\n".join(lines)
 
 
 def grid_poses(q_fixed: ArrayLike, joints, a: ArrayLike, b: ArrayLike) -> FloatArray:
@@ -99,7 +115,8 @@ def stiffness_map(
     f1 = np.zeros(len(flat)) if frequencies else None
     for s in range(0, len(flat), chunk):
         C = tcp_compliance(arm, flat[s : s + chunk])
-        K[s : s + chunk] = 1.0 / np.einsum("mii->mi", C[:, :3, :3])
+        with np.errstate(divide="ignore"):  # a direction the joints cannot move: K = inf
+            K[s : s + chunk] = 1.0 / np.einsum("mii->mi", C[:, :3, :3])
         if frequencies:
             f1[s : s + chunk] = natural_frequencies(arm, flat[s : s + chunk])[:, 0]
     log.info("stiffness map done")
@@ -107,6 +124,26 @@ def stiffness_map(
     return JointSpaceMap(tuple(joints), np.asarray(a, float), np.asarray(b, float),
                          np.asarray(q_fixed, float), K.reshape(shape + (3,)),
                          None if f1 is None else f1.reshape(shape))
+
+
+def limits_map(arm: ArmModel, q_fixed: ArrayLike, lower: ArrayLike, upper: ArrayLike,
+               n: int = 60, joints=(1, 2), frequencies: bool = True) -> JointSpaceMap:
+    """:func:`stiffness_map` on an ``n`` x ``n`` grid spanning the two joints' limits
+    ``lower``, ``upper`` (n,) [rad].
+
+    Examples
+    --------
+    >>> from flexarm.assembly.examples import two_link_arm
+    >>> m = limits_map(two_link_arm(), [0.0, 0.0], [-1.0, -1.0], [1.0, 1.0], n=3,
+    ...                joints=(0, 1), frequencies=False)
+    >>> m.stiffness.shape
+    (3, 3, 3)
+    """
+    if n < 2:
+        raise ValueError(f"a map needs at least 2 grid points per joint, got {n}")
+    lo, hi = np.asarray(lower, float), np.asarray(upper, float)
+    a, b = (np.linspace(lo[j], hi[j], n) for j in joints)
+    return stiffness_map(arm, q_fixed, a, b, joints, frequencies)
 
 
 def stiffest(m: JointSpaceMap) -> dict:

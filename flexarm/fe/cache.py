@@ -78,8 +78,6 @@ def cache_root() -> Path:
 
     Examples
     --------
-    >>> import os, tempfile
-    >>> os.environ["FLEXARM_CACHE"] = tempfile.mkdtemp()
     >>> cache_root().is_dir()
     True
     """
@@ -184,9 +182,8 @@ def cached(kind: str, key: str, compute: Callable[[], Any], codec: Codec = JSON,
 
     Examples
     --------
-    >>> import os, tempfile
-    >>> os.environ["FLEXARM_CACHE"] = tempfile.mkdtemp()
-    >>> key = cache_key("example", 3)
+    >>> import tempfile
+    >>> key = cache_key("example", tempfile.mkdtemp())  # a key no run has used
     >>> cached("example", key, lambda: {"n": 3}).is_hit
     False
     >>> cached("example", key, lambda: {"n": 3}).value

@@ -1,0 +1,102 @@
+"""One way from a robot description to an arm model: the E-model or the flexible arm.
+
+:class:`ArmSpec` names the model and its few knobs, :func:`build_arm` builds it.  Every
+command and job that needs "the arm of this robot" goes through here, so the defaults
+are the same everywhere: E-model link masses from the CAD surfaces (exact for closed
+CAD, no meshing), the robot's mesh size and Craig-Bampton mode count for flexible
+links, RBE2 seats.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from ..robot.description import Robot
+from .build import BuildOptions, LinkBuild, build_robot
+from .emodel import emodel
+from .flexible import flexible_arm
+from .system import ArmModel
+
+__all__ = ["MODELS", "MASS_METHODS", "ArmSpec", "Arm", "build_arm"]
+
+log = logging.getLogger(__name__)
+
+#: Arm models: rigid links (E-model), links reduced by Guyan or Craig-Bampton.
+MODELS = ("emodel", "guyan", "cb")
+#: Where E-model link mass properties come from: CAD surface integrals or tet meshes.
+MASS_METHODS = ("surface", "tets")
+
+
+@dataclass(frozen=True)
+class ArmSpec:
+    """Which arm model of a robot.
+
+    Parameters
+    ----------
+    model : {"emodel", "guyan", "cb"}
+        Rigid links with joint springs, or links reduced by Guyan or Craig-Bampton.
+    mass : {"surface", "tets"}
+        E-model link mass properties: closed-surface integrals of the CAD, or volume
+        integrals over the link's tetrahedral mesh (the same solid as the flexible arm).
+    mesh_size : float or None
+        Tet edge length [m] of flexible links and of ``mass="tets"`` (None: the robot's).
+    n_modes : int or None
+        Craig-Bampton modes per link (None: the robot's).
+    coupling : {"rbe2", "rbe3"}
+        Seat coupling of flexible links.
+    """
+
+    model: str = "emodel"
+    mass: str = "surface"
+    mesh_size: float | None = None
+    n_modes: int | None = None
+    coupling: str = "rbe2"
+
+    def __post_init__(self) -> None:
+        if self.model not in MODELS:
+            raise ValueError(f"model must be one of {', '.join(MODELS)}, got '{self.model}'")
+        if self.mass not in MASS_METHODS:
+            raise ValueError(f"mass must be one of {', '.join(MASS_METHODS)}, got '{self.mass}'")
+
+    @property
+    def label(self) -> str:
+        """Name for titles and tables: ``E-model``, ``Guyan``, ``CB``."""
+        return {"emodel": "E-model", "guyan": "Guyan", "cb": "CB"}[self.model]
+
+    def build_options(self) -> BuildOptions:
+        """The :class:`BuildOptions` of a flexible model."""
+        return BuildOptions(self.model, self.n_modes, self.coupling, self.mesh_size)
+
+
+@dataclass(frozen=True, eq=False)
+class Arm:
+    """An arm model of ``robot``: ``model`` (the :class:`ArmModel`), the ``spec`` it was
+    built from and the link ``builds`` (None for the E-model)."""
+
+    robot: Robot
+    model: ArmModel
+    spec: ArmSpec
+    builds: tuple[LinkBuild, ...] | None = None
+
+
+def build_arm(robot: Robot, spec: ArmSpec = ArmSpec(),
+              progress: Callable[[str], None] | None = None) -> Arm:
+    """The arm model ``spec`` of ``robot`` (flexible links are meshed and reduced once,
+    then read from the cache).
+
+    Examples
+    --------
+    >>> from flexarm.robot.demo_arm import load_demo_robot
+    >>> arm = build_arm(load_demo_robot())
+    >>> arm.spec.label, arm.model.chain.n_joints
+    ('E-model', 6)
+    """
+    log.info("arm of %s: %s", robot.name, spec)
+    if spec.model == "emodel":
+        size = robot.options.mesh_size if spec.mesh_size is None else float(spec.mesh_size)
+        return Arm(robot, emodel(robot, method=spec.mass, mesh_size=size), spec)
+    opts = spec.build_options().resolved(robot)
+    builds = build_robot(robot, opts, progress=progress)
+    return Arm(robot, flexible_arm(robot, opts, builds), spec, builds)

@@ -1,0 +1,104 @@
+"""The TCP compliance of an arm at a pose: deflections, full vs diagonal stiffness
+(thesis eqs. 3.9 and 3.12) and the gravity sag."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..assembly.analyses import gravity_sag, identify_stiffness, tcp_compliance
+from ..assembly.system import ArmModel
+from ..fe.files import atomic_path
+from ..fe.typing import ArrayLike, FloatArray
+
+__all__ = ["ComplianceReport", "compliance_report"]
+
+_XYZ = "xyz"
+
+
+@dataclass(frozen=True, eq=False)
+class ComplianceReport:
+    """TCP compliance of an arm at one pose (base frame).
+
+    Attributes
+    ----------
+    C : (6, 6) float
+        TCP compliance [m/N, rad/(N m)].
+    force : float
+        Load per direction of the identification and the deflections [N].
+    K_full, K_diag : (3, 3) float
+        Translational stiffness identified from three load cases (eq. 3.12) and its
+        diagonal-only model (eq. 3.9) [N/m].
+    error_diag : (3,) float
+        Relative error of the diagonal model per load case (+x, +y, +z) [-].
+    sag : (6,) float
+        TCP displacement under the arm's own weight [m, rad].
+    """
+
+    C: FloatArray
+    force: float
+    K_full: FloatArray
+    K_diag: FloatArray
+    error_diag: FloatArray
+    sag: FloatArray
+
+    @property
+    def deflection(self) -> FloatArray:
+        """(3,) TCP deflection [m] under ``force`` along x, y, z."""
+        return self.force * np.diag(self.C)[:3]
+
+    @property
+    def weakest(self) -> str:
+        """The least stiff translation direction: ``"x"``, ``"y"`` or ``"z"``."""
+        return _XYZ[int(np.argmax(np.diag(self.C)[:3]))]
+
+    def text(self) -> str:
+        """The report as the ``compliance`` command prints it (mm, N, mm/kN, N/mm)."""
+        C = self.C
+        lines = ["TCP compliance, translations [mm/kN] (base frame):"]
+        lines += [f"  {d}  " + " ".join(f"{C[i, j] * 1e6:10.4f}" for j in range(3))
+                  for i, d in enumerate(_XYZ)]
+        lines.append(f"deflection under {self.force:g} N [mm]: " + "  ".join(
+            f"{d}={v * 1e3:.3f}" for d, v in zip(_XYZ, self.deflection, strict=True)))
+        lines.append(f"least stiff direction: {self.weakest}")
+        lines.append("stiffness [N/mm]: full (eq. 3.12)            diagonal (eq. 3.9)")
+        lines += ["  " + " ".join(f"{self.K_full[i, j] * 1e-3:9.1f}" for j in range(3)) + "    "
+                  + " ".join(f"{self.K_diag[i, j] * 1e-3:9.1f}" for j in range(3))
+                  for i in range(3)]
+        lines.append("diagonal-model error per load case [%]: " + "  ".join(
+            f"{d}+={e * 100:.1f}" for d, e in zip(_XYZ, self.error_diag, strict=True)))
+        lines.append("gravity sag of the TCP [mm]: " + "  ".join(
+            f"{d}={self.sag[i] * 1e3:.3f}" for i, d in enumerate(_XYZ)))
+        return "\n".join(lines)
+
+    def write_csv(self, path) -> Path:
+        """The 6 x 6 compliance as CSV (rows/columns x, y, z, rx, ry, rz; SI units,
+        translations in m/N, rotations in rad/(N m)), written atomically."""
+        names = ["x", "y", "z", "rx", "ry", "rz"]
+        lines = ["row," + ",".join(f"C_{n}" for n in names)]
+        lines += [f"{n}," + ",".join(f"{v:.10g}" for v in row)
+                  for n, row in zip(names, self.C, strict=True)]
+        with atomic_path(path) as tmp:
+            tmp.write_text("\n".join(lines) + "\n")
+        return Path(path)
+
+
+def compliance_report(arm: ArmModel, q: ArrayLike, force: float = 800.0) -> ComplianceReport:
+    """TCP compliance, stiffness identification from three load cases of ``force`` [N]
+    along +x, +y, +z, and gravity sag, at pose ``q`` (n,) [rad].
+
+    Examples
+    --------
+    >>> from flexarm.assembly import emodel
+    >>> from flexarm.robot import load_robot
+    >>> robot = load_robot()
+    >>> rep = compliance_report(emodel(robot), robot.pose("P1"))
+    >>> rep.weakest, round(float(rep.deflection[1]) * 1e3, 1)  # [mm] at 800 N
+    ('y', 6.2)
+    """
+    C = tcp_compliance(arm, q)
+    ident = identify_stiffness(arm, q, force * np.eye(3))
+    return ComplianceReport(C, float(force), ident.K_full, ident.K_diag, ident.error_diag,
+                            gravity_sag(arm, q))
