@@ -141,6 +141,15 @@ class Modes:
         """(n,) angular frequencies [rad/s]."""
         return 2 * np.pi * self.freq_hz
 
+    def text(self, joint_names) -> str:
+        """Table: mode, frequency [Hz], damping ratio and the energy share per joint."""
+        lines = [f"{'mode':>4s} {'freq_Hz':>10s} {'zeta':>7s}  "
+                 + " ".join(f"{n[-7:]:>7s}" for n in joint_names)]
+        for r, f in enumerate(self.freq_hz):
+            shares = " ".join(f"{e:7.3f}" for e in self.energy[:, r])
+            lines.append(f"{r + 1:4d} {f:10.3f} {self.damping[r]:7.4f}  {shares}")
+        return "\n".join(lines)
+
 
 def modes(arm: ArmModel, q: ArrayLike) -> Modes:
     """All modes of the arm at one pose ``q`` (n,) [rad].

@@ -37,7 +37,7 @@ from ..reduction.tie import tied_superelement
 from ..robot.description import Link, Robot
 
 __all__ = ["BUILD_VERSION", "BuildOptions", "LinkBuild", "link_regions", "link_mesh",
-           "link_material", "link_mesh_id", "build_link", "build_robot", "Mesher",
+           "link_material", "link_mesh_id", "build_link", "build_robot", "builds_text", "Mesher",
            "SUPERELEMENT_CODEC"]
 
 log = logging.getLogger(__name__)
@@ -298,6 +298,20 @@ def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
     return LinkBuild(lk.name, se, names, st["n_tets"], st["n_fe_dofs"], se.n_dofs,
                      0.0 if entry.is_hit else time.perf_counter() - t0, entry.is_hit,
                      entry.path, float(st["seconds"]))
+
+
+def builds_text(builds) -> str:
+    """Table of built links: tets, FE DOF, reduced DOF (``rigid`` for a rigid base), build
+    time [s] (``cache`` when read from the cache) and the first fixed-interface
+    frequencies [Hz]."""
+    lines = [f"{'link':<14} {'tets':>7} {'DOF':>7} {'reduced':>7} {'time_s':>7}  "
+             f"fixed-interface f [Hz]"]
+    for lb in builds:
+        f = " ".join(f"{v:.0f}" for v in lb.freq_hz[:5]) or "-"
+        src = "cache" if lb.is_cached else f"{lb.seconds:7.1f}"
+        kind = "rigid" if lb.superelement is None else lb.n_reduced
+        lines.append(f"{lb.name:<14} {lb.n_tets:>7} {lb.n_fe_dofs:>7} {kind:>7} {src:>7}  {f}")
+    return "\n".join(lines)
 
 
 def build_robot(robot: Robot, options: BuildOptions = BuildOptions(), cache: bool = True,

@@ -200,11 +200,10 @@ def verdict(rows: Sequence[StudyRow], levels=(0.01, 0.001),
 
 
 def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = None,
-              modes: Sequence[int] = (0, 5, 10, 20),
-              couplings: Sequence[str] = ("rbe2", "rbe3", "k4", "k8"), out_dir=None,
-              progress: Callable[[str], None] | None = None, n_freq: int = 10,
+              modes: Sequence[int] | None = None, couplings: Sequence[str] | None = None,
+              out_dir=None, progress: Callable[[str], None] | None = None, n_freq: int = 10,
               reference_coupling: str = "rbe2", mesher: Mesher | None = None,
-              cache: bool = True) -> StudyResult:
+              cache: bool = True, preset: str = "full") -> StudyResult:
     """Sweep the variants against the full-FE reference at the finest size.
 
     Parameters
@@ -214,10 +213,10 @@ def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = No
         Pose name (``"P1"``) or ``"q1,...,qn"`` in degrees.
     sizes : sequence of float, optional
         Tet edge lengths [m]; default 1.5 x and 1 x the robot's ``mesh_size``.
-    modes : sequence of int
-        CB modes per link (0 = Guyan).
-    couplings : sequence of str
-        ``rbe2``, ``rbe3``, ``k<N>``.
+    modes : sequence of int, optional
+        CB modes per link (0 = Guyan); default: the preset's.
+    couplings : sequence of str, optional
+        ``rbe2``, ``rbe3``, ``k<N>``; default: the preset's.
     out_dir : path, optional
         Where CSV, PNGs and the verdict go (:func:`write_study`).
     progress : callable (str) -> None, optional
@@ -226,9 +225,16 @@ def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = No
         Seat coupling of the full-FE reference.
     mesher : callable, optional
         As for :func:`~flexarm.assembly.build.build_robot` (tests).
+    preset : {"small", "full"}
+        Named sweep (:data:`PRESETS`) that fills in what is not given.
     """
     from ..robot.description import pose_from_string
 
+    if preset not in PRESETS:
+        raise ValueError(f"preset must be one of {', '.join(PRESETS)}, got '{preset}'")
+    modes = PRESETS[preset]["modes"] if modes is None else modes
+    couplings = PRESETS[preset]["couplings"] if couplings is None else couplings
+    sizes = PRESETS[preset]["sizes"] if sizes is None else sizes
     say = progress or (lambda message: None)
     q = pose_from_string(robot, pose)
     if sizes is None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..fe.text import text_table
 from ..fe.typing import FloatArray
 
 __all__ = ["StudyRow", "Reference", "StudyResult"]
@@ -63,3 +64,16 @@ class StudyResult:
     pose: str
     verdict: str
     files: tuple[Path, ...] = field(default=())
+
+    def text(self) -> str:
+        """The reference, one table row per variant, and the verdict."""
+        ref = self.reference
+        head = (f"reference: full FE, {ref.n_dofs} DOF at {ref.mesh_size * 1e3:.0f} mm "
+                f"({ref.coupling}), {ref.seconds:.1f} s")
+        table = text_table(
+            ["size_mm", "coupling", "model", "DOF", "FE_DOF", "f_err_max_%", "f_err_mean_%",
+             "C_err_max_%", "build_s", "solve_ms"],
+            [[f"{r.mesh_size * 1e3:.0f}", r.coupling, r.label, r.n_reduced, r.n_fe_dofs,
+              100 * r.freq_err_max, 100 * r.freq_err_mean, 100 * r.C_err_max,
+              r.build_seconds, 1e3 * r.solve_seconds] for r in self.rows], floatfmt="{:.3g}")
+        return f"{head}\n{table}\n{self.verdict}"

@@ -29,11 +29,13 @@ from ..fe.files import atomic_path
 from ..fe.material import Material
 from ..fe.mesh import TetMesh
 from ..fe.plotting import pyplot
+from ..fe.text import text_table
 from ..reduction.craig_bampton import craig_bampton
 from ..reduction.interfaces import CylinderRegion
 from ..reduction.reduce import CoupledModel, coupled_model
 
-__all__ = ["StudyRow", "REPRESENTATIONS", "bar_link", "study_part", "write_csv", "plot_study"]
+__all__ = ["StudyRow", "PartStudyResult", "REPRESENTATIONS", "bar_link", "study_part",
+           "run_part_study", "write_csv", "plot_study"]
 
 log = logging.getLogger(__name__)
 
@@ -202,3 +204,41 @@ def plot_study(path, rows: list[StudyRow]) -> Path:
         fig.savefig(tmp, dpi=120, format="png")
     plt.close(fig)
     return Path(path)
+
+
+@dataclass(frozen=True)
+class PartStudyResult:
+    """The rows of a part study and the files written (``study.csv``, ``study.png``)."""
+
+    rows: tuple[StudyRow, ...]
+    files: tuple[Path, ...] = ()
+
+    def text(self) -> str:
+        """One table row per mesh, representation and mode count."""
+        return text_table(["mesh", "repr", "modes", "DOF", "freq err", "compl err", "time [s]"],
+                          [[r.mesh, r.representation, r.n_modes, r.n_reduced, r.freq_error,
+                            r.compliance_error, r.reduce_seconds] for r in self.rows], "{:.3g}")
+
+
+def run_part_study(material: Material, representations=tuple(REPRESENTATIONS),
+                   mode_counts=(0, 5, 10, 20, 40), divisions=((12, 2, 2), (24, 3, 3)),
+                   mesh=None, out_dir=None) -> PartStudyResult:
+    """:func:`study_part` on built-in bars of ``divisions`` (cells along x, y, z) or on one
+    ``mesh`` = ``(label, TetMesh, two regions)``; with ``out_dir``, writes ``study.csv``
+    and ``study.png`` there.
+
+    Examples
+    --------
+    >>> from flexarm.fe import MATERIALS
+    >>> res = run_part_study(MATERIALS["steel"], ("rbe2",), (0, 5), divisions=((6, 1, 1),))
+    >>> [r.n_modes for r in res.rows]
+    [0, 5]
+    """
+    meshes = ([mesh] if mesh is not None else
+              [(f"bar {d[0]}x{d[1]}x{d[2]}", *bar_link(divisions=tuple(d))) for d in divisions])
+    rows = tuple(study_part(material, meshes, tuple(representations), tuple(mode_counts)))
+    files: tuple[Path, ...] = ()
+    if out_dir is not None:
+        files = (write_csv(Path(out_dir) / "study.csv", list(rows)),
+                 plot_study(Path(out_dir) / "study.png", list(rows)))
+    return PartStudyResult(rows, files)

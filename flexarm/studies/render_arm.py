@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..assembly.arm import Arm
 from ..assembly.build import LinkBuild
 from ..assembly.flexible import body_coordinates
 from ..assembly.system import ArmModel, SystemMatrices, rotation_blocks, system_matrices
@@ -34,7 +35,7 @@ from ..reduction.render import _picture_suffix, save_picture
 from ..robot.description import Robot
 
 __all__ = ["LinkField", "superelement_dofs", "link_fields", "mode_fields",
-           "compliance_ellipsoid", "render_arm", "arm_model", "render_arm_mode"]
+           "compliance_ellipsoid", "render_arm", "render_arm_mode"]
 
 log = logging.getLogger(__name__)
 
@@ -222,40 +223,20 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
     return out
 
 
-def arm_model(robot: Robot, model: str = "cb", n_modes: int | None = None,
-              coupling: str = "rbe2", mesh_size: float | None = None, progress=None):
-    """``(arm, builds)`` for ``model`` in {"cb", "guyan", "emodel"} (builds None for E)."""
-    from ..assembly.build import BuildOptions, build_robot
-    from ..assembly.emodel import emodel
-    from ..assembly.flexible import flexible_arm
+def render_arm_mode(arm: Arm, q: ArrayLike, mode: int = 1, path=None, ellipsoid: bool = False,
+                    pose_name: str = "", **options) -> Path | None:
+    """Picture (PNG/GIF) of mode ``mode`` of ``arm`` (:func:`~flexarm.assembly.arm.build_arm`)
+    at pose ``q`` [rad], model and frequency in the title.
 
-    if model == "emodel":
-        ms = robot.options.mesh_size if mesh_size is None else mesh_size
-        return emodel(robot, "tets", ms), None
-    if model not in ("cb", "guyan"):
-        raise ValueError(f"model must be cb|guyan|emodel, got '{model}'")
-    opts = BuildOptions(model, n_modes, coupling, mesh_size).resolved(robot)
-    builds = build_robot(robot, opts, progress=progress)
-    return flexible_arm(robot, opts, builds), builds
-
-
-def render_arm_mode(robot: Robot, q: ArrayLike, mode: int = 1, path=None, model: str = "cb",
-                    ellipsoid: bool = False, pose_name: str = "", arm=None, builds=None,
-                    **options) -> Path | None:
-    """Picture (PNG/GIF) of arm mode ``mode`` at pose ``q`` [rad], frequency in the title.
-
-    ``arm``/``builds`` reuse an :func:`arm_model` result; ``ellipsoid`` adds the TCP
-    compliance ellipsoid; ``options`` go to :func:`render_arm`.
+    ``ellipsoid`` adds the TCP compliance ellipsoid; ``options`` go to :func:`render_arm`.
     """
     from ..assembly.analyses import tcp_compliance
     from ..robot.kinematics import tcp_frame
 
-    if arm is None:
-        arm, builds = arm_model(robot, model)
-    freq, fields = mode_fields(robot, arm, q, mode, builds)
-    label = {"cb": "CB", "guyan": "Guyan", "emodel": "E-model"}.get(model, model)
-    title = f"{robot.name} {pose_name} {label}: mode {mode}, {freq:.1f} Hz".replace("  ", " ")
+    freq, fields = mode_fields(arm.robot, arm.model, q, mode, arm.builds)
+    title = (f"{arm.robot.name} {pose_name} {arm.spec.label}: mode {mode}, {freq:.1f} Hz"
+             .replace("  ", " "))
     ell = None
     if ellipsoid:
-        ell = (tcp_compliance(arm, q), tcp_frame(arm.chain, q)[:3, 3])
+        ell = (tcp_compliance(arm.model, q), tcp_frame(arm.model.chain, q)[:3, 3])
     return render_arm(fields, path, title, ellipsoid=ell, **options)

@@ -101,8 +101,8 @@ def test_cli_study_arguments(monkeypatch, tmp_path):
 
     seen = {}
 
-    def fake(robot, pose, sizes, modes, couplings, out, progress=None, **kw):
-        seen.update(pose=pose, sizes=sizes, modes=modes, couplings=couplings, out=out)
+    def fake(robot, pose, sizes=None, modes=None, couplings=None, out_dir=None, **kw):
+        seen.update(pose=pose, sizes=sizes, modes=modes, couplings=couplings, out=out_dir)
         ref = st.Reference(np.ones(2), np.ones(6), 10, 0.03, "rbe2", 1.0)
         return st.StudyResult((), ref, pose, "within 1%: none")
 

@@ -45,11 +45,13 @@ def exact_arm(box_robot):
 
 @pytest.fixture(scope="module")
 def cached_arm(box_robot):
+    from flexarm.assembly.arm import Arm, ArmSpec
     from flexarm.assembly.build import build_robot
 
     opts = BuildOptions("cb", 6).resolved(box_robot)
     builds = build_robot(box_robot, opts, mesher=box_mesher)
-    return flexible_arm(box_robot, opts, builds), builds
+    return Arm(box_robot, flexible_arm(box_robot, opts, builds), ArmSpec("cb", n_modes=6),
+               builds)
 
 
 @pytest.fixture(scope="module")
@@ -93,7 +95,7 @@ def test_recovery_matches_interface_dofs(box_robot, exact_arm):
 
 
 def test_link_fields_in_base_frame(box_robot, cached_arm):
-    arm, builds = cached_arm
+    arm, builds = cached_arm.model, cached_arm.builds
     q = box_robot.pose("P2")
     freq, fields = mode_fields(box_robot, arm, q, 1, builds)
     assert freq == pytest.approx(modes(arm, q).freq_hz[0])
@@ -124,50 +126,47 @@ def _image(path):
 
 
 def test_mode_pictures(box_robot, cached_arm, tmp_path, gl):
-    arm, builds = cached_arm
     q = box_robot.pose("P1")
     imgs = []
     for m in (1, 2):
-        out = render_arm_mode(box_robot, q, m, tmp_path / f"m{m}.png", arm=arm, builds=builds,
-                              window_size=SIZE)
+        out = render_arm_mode(cached_arm, q, m, tmp_path / f"m{m}.png", window_size=SIZE)
         assert out.stat().st_size > 0
         imgs.append(_image(out))
     assert imgs[0].shape[:2] == (SIZE[1], SIZE[0])
     diff = np.abs(imgs[0].astype(float) - imgs[1].astype(float)).max(axis=-1)
     assert (diff > 30).mean() > 0.002  # the two modes look different
-    ell = render_arm_mode(box_robot, q, 1, tmp_path / "e.png", arm=arm, builds=builds,
-                          ellipsoid=True, window_size=SIZE)
+    ell = render_arm_mode(cached_arm, q, 1, tmp_path / "e.png", ellipsoid=True,
+                          window_size=SIZE)
     assert np.abs(_image(ell).astype(float) - imgs[0]).max() > 30
 
 
 def test_mode_gif_and_emodel(box_robot, tmp_path, gl):
-    from flexarm.assembly.emodel import emodel
+    from flexarm.assembly.arm import build_arm
 
-    arm = emodel(box_robot, "surface")
+    arm = build_arm(box_robot)
     q = box_robot.pose("P1")
-    gif = render_arm_mode(box_robot, q, 1, tmp_path / "e.gif", model="emodel", arm=arm,
-                          window_size=SIZE, n_frames=4)
+    gif = render_arm_mode(arm, q, 1, tmp_path / "e.gif", window_size=SIZE, n_frames=4)
     import imageio.v3 as iio
 
     frames = iio.imread(gif, index=None)
     assert frames.shape[0] == 4 and frames.shape[1:3] == (SIZE[1], SIZE[0])
     assert np.abs(frames[0].astype(float) - frames[1].astype(float)).max() > 0
     with pytest.raises(ValueError, match="png or .gif"):
-        render_arm_mode(box_robot, q, 1, tmp_path / "e.jpg", arm=arm, window_size=SIZE)
+        render_arm_mode(arm, q, 1, tmp_path / "e.jpg", window_size=SIZE)
 
 
 def test_cli_show_arm(box_robot, cached_arm, tmp_path, monkeypatch, gl):
     """``flexarm show-arm`` writes the picture (the arm model is the cached box arm)."""
-    import flexarm.studies.render_arm as ra
+    import flexarm.assembly.arm as arm_module
     from flexarm.cli import main
 
     seen = {}
 
-    def fake(robot, model, n_modes, coupling, mesh_size, progress=None):
-        seen["model"] = model
+    def fake(robot, spec, progress=None):
+        seen["model"] = spec.model
         return cached_arm
 
-    monkeypatch.setattr(ra, "arm_model", fake)
+    monkeypatch.setattr(arm_module, "build_arm", fake)
     out = tmp_path / "arm_mode2.png"
     assert main(["show-arm", "--robot", str(box_robot.source), "--pose", "P2", "--mode", "2",
                  "--ellipsoid", "-o", str(out)]) == 0

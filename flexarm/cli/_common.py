@@ -1,0 +1,166 @@
+"""What every command shares: the registry, printing, progress and the robot options.
+
+A command is an ``add_args(parser)`` function and a ``run(args) -> int`` function,
+registered with :func:`command`.  ``run`` parses nothing itself: it turns ``args`` into
+one call of an API function, then prints the returned result or hands it to an API
+writer.  Every command that needs an arm takes the same robot options
+(:func:`add_robot_args`) and gets its robot and arm from :func:`robot_from` and
+:func:`arm_from`, so the defaults are the same everywhere.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import threading
+import time
+from collections.abc import Callable, Iterable
+
+__all__ = ["COMMANDS", "command", "out", "say", "wrote", "Progress", "add_robot_args",
+           "add_flexible_args",
+           "robot_from", "arm_spec_from", "arm_from", "pose_from", "floats", "ints", "names"]
+
+#: name -> (help, add_args, run), in registration order
+COMMANDS: dict[str, tuple[str, Callable, Callable]] = {}
+
+
+def command(name: str, help: str, add_args: Callable[[argparse.ArgumentParser], None]):
+    """Decorator registering ``run(args) -> int`` as command ``name``."""
+
+    def register(run):
+        COMMANDS[name] = (help, add_args, run)
+        return run
+
+    return register
+
+
+def out(*parts) -> None:
+    """One line of a command's result on stdout."""
+    print(*parts)  # noqa: T201 - the CLI is where printing belongs
+
+
+def say(text: str) -> None:
+    """One progress line on stderr."""
+    print(text, file=sys.stderr, flush=True)  # noqa: T201
+
+
+def wrote(paths: Iterable) -> None:
+    """``wrote <path>`` for every written file."""
+    for p in paths:
+        out(f"wrote {p}")
+
+
+class Progress:
+    """Start/finish lines with elapsed time on stderr; a ticking timer on a terminal."""
+
+    def __init__(self, what: str):
+        self.what = what
+
+    def __enter__(self):
+        self.t0 = time.perf_counter()
+        self._stop = threading.Event()
+        sys.stderr.write(f"{self.what} ...")
+        sys.stderr.flush()
+        if sys.stderr.isatty():
+            threading.Thread(target=self._tick, daemon=True).start()
+        return self
+
+    def _tick(self) -> None:
+        while not self._stop.wait(1.0):
+            sys.stderr.write(f"\r{self.what} ... {time.perf_counter() - self.t0:5.0f} s")
+            sys.stderr.flush()
+
+    def note(self, text: str) -> None:
+        sys.stderr.write(f"\n  {text}")
+        sys.stderr.flush()
+
+    def __exit__(self, exc_type, exc, tb):
+        self._stop.set()
+        status = "done" if exc_type is None else "failed"
+        sys.stderr.write(f"\r{self.what} ... {status} in {time.perf_counter() - self.t0:.1f} s\n")
+        sys.stderr.flush()
+        return False
+
+
+def add_robot_args(p: argparse.ArgumentParser, models=("emodel",), pose: bool = True,
+                   flexible: bool = True) -> None:
+    """The robot options every arm command shares: ``--robot``, ``--model``, ``--mass``,
+    and for flexible models ``--mesh-size``, ``--modes``, ``--coupling``; ``--pose``."""
+    from ..assembly.arm import MASS_METHODS
+
+    p.add_argument("--robot", default=None,
+                   help="robot TOML or URDF (default: the built-in IRB 4600-class demo arm)")
+    p.add_argument("--model", default=models[0], choices=list(models),
+                   help="arm model: emodel = rigid links + joint springs; guyan, cb = links "
+                        "reduced to superelements")
+    p.add_argument("--mass", default="surface", choices=list(MASS_METHODS),
+                   help="E-model link mass properties from the CAD surfaces (default) or "
+                        "from tet meshes")
+    if flexible:
+        add_flexible_args(p)
+    if pose:
+        p.add_argument("--pose", default="P1",
+                       help="named pose of the robot file (P1, P2, P3) or q1,...,q6 [deg]")
+
+
+def add_flexible_args(p: argparse.ArgumentParser) -> None:
+    """``--mesh-size``, ``--modes``, ``--coupling`` of flexible links."""
+    p.add_argument("--mesh-size", type=float, default=None,
+                   help="tet edge of flexible links [m] (default: the robot's)")
+    p.add_argument("--modes", type=int, default=None,
+                   help="Craig-Bampton modes per link (default: the robot's)")
+    p.add_argument("--coupling", default="rbe2", choices=["rbe2", "rbe3"],
+                   help="seat coupling of flexible links")
+
+
+def robot_from(args):
+    """The robot of ``--robot`` (the demo arm when absent)."""
+    from ..robot import load_robot
+
+    return load_robot(args.robot)
+
+
+def arm_spec_from(args, model: str | None = None):
+    """The :class:`~flexarm.assembly.arm.ArmSpec` of the robot options (``model``
+    overrides ``--model``)."""
+    from ..assembly.arm import ArmSpec
+
+    return ArmSpec(model or args.model, args.mass, getattr(args, "mesh_size", None),
+                   getattr(args, "modes", None), getattr(args, "coupling", "rbe2"))
+
+
+def arm_from(args, robot=None, model: str | None = None):
+    """The :class:`~flexarm.assembly.arm.Arm` of the robot options (flexible links from
+    the cache after the first run)."""
+    from ..assembly.arm import build_arm
+
+    robot = robot_from(args) if robot is None else robot
+    return build_arm(robot, arm_spec_from(args, model), progress=say)
+
+
+def pose_from(robot, args):
+    """(n,) joint angles [rad] of ``--pose``."""
+    from ..robot import pose_from_string
+
+    return pose_from_string(robot, args.pose)
+
+
+def floats(text: str, what: str = "value") -> list[float]:
+    """``"0.06,0.045"`` -> ``[0.06, 0.045]``; a bad entry names ``what``."""
+    try:
+        return [float(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise ValueError(f"{what} must be comma-separated numbers, got '{text}'") from None
+
+
+def ints(text: str, what: str = "value") -> list[int]:
+    """``"0,5,10"`` -> ``[0, 5, 10]``; a bad entry names ``what``."""
+    try:
+        return [int(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise ValueError(f"{what} must be comma-separated integers, got '{text}'") from None
+
+
+def names(text: str) -> list[str]:
+    """``"P1, P2"`` -> ``["P1", "P2"]``."""
+    return [s.strip() for s in text.split(",") if s.strip()]

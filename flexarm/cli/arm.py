@@ -1,0 +1,116 @@
+"""Analyses of an arm at a pose: ``import-urdf``, ``modes``, ``compliance``, ``frf``, ``map``."""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+from ._common import add_robot_args, arm_from, command, out, pose_from, wrote
+
+#: Every arm analysis runs on the E-model or the flexible arm.
+_MODELS = ("emodel", "cb", "guyan")
+
+
+# --- import-urdf -----------------------------------------------------------------------
+def _add_import_urdf(p: argparse.ArgumentParser) -> None:
+    p.add_argument("urdf", help="robot.urdf")
+    p.add_argument("-o", "--output", required=True, help="robot.toml to write")
+    p.add_argument("--meshes", default="collision", choices=["collision", "visual"],
+                   help="which URDF meshes become the link CAD")
+    p.add_argument("--total-mass", type=float, default=None, metavar="KG",
+                   help="scale the link densities so the robot weighs KG (solid CAD hulls of "
+                        "hollow castings are far too heavy otherwise)")
+
+
+@command("import-urdf", "write a robot TOML from a URDF (origins, axes, limits, STL meshes)",
+         _add_import_urdf)
+def _run_import_urdf(args) -> int:
+    from ..robot.formats import write
+    from ..studies.import_urdf import import_urdf
+
+    imported = import_urdf(args.urdf, args.meshes, args.total_mass)
+    write(args.output, imported.robot)
+    out(f"wrote {args.output}: {imported.summary()}")
+    return 0
+
+
+# --- modes -----------------------------------------------------------------------------
+def _add_modes(p: argparse.ArgumentParser) -> None:
+    add_robot_args(p, _MODELS)
+    p.add_argument("-o", "--output", default=None, help="folder for the mode-energy PNG")
+
+
+@command("modes", "eigenfrequencies and joint energy shares of the arm at a pose", _add_modes)
+def _run_modes(args) -> int:
+    from ..assembly.analyses import modes
+    from ..studies.plots import plot_mode_energy
+
+    arm = arm_from(args)
+    md = modes(arm.model, pose_from(arm.robot, args))
+    out(md.text(arm.robot.joint_names))
+    if args.output:
+        wrote([plot_mode_energy(os.path.join(args.output, "mode_energy.png"), md.freq_hz,
+                                md.energy, arm.robot.joint_names)])
+    return 0
+
+
+# --- compliance ------------------------------------------------------------------------
+def _add_compliance(p: argparse.ArgumentParser) -> None:
+    add_robot_args(p, _MODELS)
+    p.add_argument("--force", type=float, default=800.0, help="load per direction [N]")
+    p.add_argument("-o", "--output", default=None, help="folder for compliance.csv")
+
+
+@command("compliance", "TCP compliance, full vs diagonal stiffness, identification (eq. 3.12)",
+         _add_compliance)
+def _run_compliance(args) -> int:
+    from ..studies.compliance import compliance_report
+
+    arm = arm_from(args)
+    rep = compliance_report(arm.model, pose_from(arm.robot, args), args.force)
+    out(rep.text())
+    if args.output:
+        wrote([rep.write_csv(os.path.join(args.output, "compliance.csv"))])
+    return 0
+
+
+# --- frf -------------------------------------------------------------------------------
+def _add_frf(p: argparse.ArgumentParser) -> None:
+    add_robot_args(p, _MODELS)
+    p.add_argument("--fmax", type=float, default=100.0, help="highest frequency [Hz]")
+    p.add_argument("-o", "--output", default=None, help="folder for the Bode PNG and CSV")
+
+
+@command("frf", "TCP receptance (Bode) per direction with modal damping", _add_frf)
+def _run_frf(args) -> int:
+    from ..studies.frf import frf_report
+
+    arm = arm_from(args)
+    rep = frf_report(arm.model, pose_from(arm.robot, args), args.fmax,
+                     title=f"{arm.spec.label} TCP receptance at {args.pose}")
+    out(rep.text())
+    if args.output:
+        wrote(rep.write(args.output))
+    return 0
+
+
+# --- map -------------------------------------------------------------------------------
+def _add_map(p: argparse.ArgumentParser) -> None:
+    add_robot_args(p, _MODELS)
+    p.add_argument("--n", type=int, default=60, help="grid points per joint")
+    p.add_argument("--no-frequencies", action="store_true", help="skip the first eigenfrequency")
+    p.add_argument("-o", "--output", default=None, help="folder for map.csv and the PNGs")
+
+
+@command("map", "TCP stiffness Kxx, Kyy, Kzz and f1 over joints 2 and 3 (CSV, PNG)", _add_map)
+def _run_map(args) -> int:
+    from ..assembly.maps import limits_map, plot_map, write_csv
+
+    arm = arm_from(args)
+    m = limits_map(arm.model, pose_from(arm.robot, args), arm.robot.lower, arm.robot.upper,
+                   args.n, frequencies=not args.no_frequencies)
+    out(m.summary())
+    if args.output:
+        wrote([write_csv(os.path.join(args.output, "map.csv"), m)])
+        wrote(plot_map(m, args.output))
+    return 0

@@ -1,0 +1,115 @@
+"""The flexible arm: ``build``, ``compare-models``, ``study``, ``show-arm``."""
+
+from __future__ import annotations
+
+import argparse
+
+from ._common import (
+    add_flexible_args,
+    add_robot_args,
+    arm_from,
+    command,
+    floats,
+    ints,
+    names,
+    out,
+    pose_from,
+    robot_from,
+    say,
+    wrote,
+)
+
+
+# --- build -----------------------------------------------------------------------------
+def _add_build(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
+    p.add_argument("--method", default="cb", choices=["cb", "guyan"], help="reduction")
+    add_flexible_args(p)
+
+
+@command("build", "mesh and reduce every link of a robot (cached superelements)", _add_build)
+def _run_build(args) -> int:
+    from ..assembly.build import BuildOptions, build_robot, builds_text
+
+    opts = BuildOptions(args.method, args.modes, args.coupling, args.mesh_size)
+    out(builds_text(build_robot(robot_from(args), opts, progress=say)))
+    return 0
+
+
+# --- compare-models --------------------------------------------------------------------
+def _add_compare_models(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
+    p.add_argument("--poses", default="P1,P2,P3", help="comma-separated pose names")
+    add_flexible_args(p)
+    p.add_argument("--no-full-fe", action="store_true", help="skip the full-FE reference")
+    p.add_argument("-o", "--output", default="flexarm-compare", help="folder for CSV and PNG")
+
+
+@command("compare-models", "E-model vs Guyan vs CB vs CB+wrist vs full FE at poses (CSV, PNG)",
+         _add_compare_models)
+def _run_compare_models(args) -> int:
+    from ..studies.compare_models import compare_models
+
+    rep = compare_models(robot_from(args), names(args.poses), args.modes, args.coupling,
+                         args.mesh_size, full_fe=not args.no_full_fe, out_dir=args.output,
+                         progress=say)
+    out(rep.text())
+    wrote(rep.files)
+    return 0
+
+
+# --- study -----------------------------------------------------------------------------
+def _add_study(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
+    p.add_argument("--pose", default="P1", help="pose name or 'q1,...,qn' in degrees")
+    p.add_argument("--preset", default="full", choices=["small", "full"],
+                   help="named sweep (explicit --sizes/--modes/--couplings override it)")
+    p.add_argument("--sizes", default=None,
+                   help="tet edges [m], e.g. 0.06,0.045,0.03 (default 1.5x and 1x the robot's)")
+    p.add_argument("--modes", default=None, help="CB modes per link, 0 = Guyan (0,5,10,20)")
+    p.add_argument("--couplings", default=None, help="rbe2,rbe3,k<N> (rbe2,rbe3,k4,k8)")
+    p.add_argument("--reference-coupling", default="rbe2", choices=["rbe2", "rbe3"])
+    p.add_argument("-o", "--output", default="flexarm-study", help="folder for CSV and PNGs")
+
+
+@command("study", "accuracy of the whole arm vs node count, CB modes and interface "
+         "representation against full FE (CSV, PNGs, verdict)", _add_study)
+def _run_study(args) -> int:
+    from ..studies.arm_study import run_study
+
+    res = run_study(robot_from(args), args.pose,
+                    sizes=floats(args.sizes, "--sizes") if args.sizes else None,
+                    modes=ints(args.modes, "--modes") if args.modes else None,
+                    couplings=names(args.couplings) if args.couplings else None,
+                    out_dir=args.output, progress=say, preset=args.preset,
+                    reference_coupling=args.reference_coupling)
+    out(res.text())
+    wrote(res.files)
+    return 0
+
+
+# --- show-arm --------------------------------------------------------------------------
+def _add_show_arm(p: argparse.ArgumentParser) -> None:
+    add_robot_args(p, ("cb", "guyan", "emodel"))
+    p.add_argument("--mode", type=int, default=1, help="arm mode number (1-based)")
+    p.add_argument("--amplitude", type=float, default=0.06,
+                   help="largest drawn displacement / arm size")
+    p.add_argument("--ellipsoid", action="store_true", help="draw the TCP compliance ellipsoid")
+    p.add_argument("--interactive", action="store_true", help="open a window (needs a display)")
+    p.add_argument("-o", "--output", default=None, help="picture .png or .gif")
+
+
+@command("show-arm", "picture of the assembled arm deformed by a mode at a pose (PNG, GIF)",
+         _add_show_arm)
+def _run_show_arm(args) -> int:
+    from ..studies.render_arm import render_arm_mode
+
+    if args.output is None and not args.interactive:
+        args.output = f"arm_mode{args.mode}.png"
+    arm = arm_from(args)
+    path = render_arm_mode(arm, pose_from(arm.robot, args), args.mode, args.output,
+                           args.ellipsoid, args.pose, amplitude=args.amplitude,
+                           interactive=args.interactive)
+    if path is not None:
+        out(f"wrote {path}")
+    return 0
