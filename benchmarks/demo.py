@@ -4,7 +4,7 @@
 Cold = an empty cache folder (every link meshed by pytetwild, every superelement and the
 full-FE reference computed); warm = the same command again with that cache.  Each run is
 a separate process reporting its own peak RSS (``resource.getrusage``).  Targets
-(issue 5): cold <= 5 min, warm <= 20 s on 2 cores.
+(of the project): cold <= 5 min, warm <= 20 s on 2 cores.
 
     python benchmarks/demo.py             # cold + warm in a temporary cache
     python benchmarks/demo.py --warm-only # uses your normal cache

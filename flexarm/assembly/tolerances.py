@@ -1,8 +1,4 @@
-"""Numerical tolerances of the arm model (eigen-solve, effects).
-
-Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
-``dataclasses.replace``.
-"""
+"""Tolerances of the arm eigen-solve and of effects applied to a model (``tol.<name>``)."""
 
 from __future__ import annotations
 

@@ -1,9 +1,5 @@
-"""Numerical tolerances of the base layer (like trimesh's ``constants.tol``); every layer
-keeps its own in its ``tolerances`` module.
-
-Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
-``dataclasses.replace``.  No tolerance literal lives inside an algorithm.
-"""
+"""Numerical tolerances of the base layer (like trimesh's ``constants.tol``): algorithms
+read ``tol.<name>``, never a literal; every layer keeps its own in its ``tolerances``."""
 
 from __future__ import annotations
 

@@ -1,8 +1,4 @@
-"""Numerical tolerances of the meshes layer (CAD checks, tetrahedralisation).
-
-Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
-``dataclasses.replace``.
-"""
+"""Tolerances of CAD checks and tetrahedralisation (``tol.<name>``)."""
 
 from __future__ import annotations
 

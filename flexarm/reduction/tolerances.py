@@ -1,8 +1,4 @@
-"""Numerical tolerances of the reduction layer (regions, superelement files).
-
-Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
-``dataclasses.replace``.
-"""
+"""Tolerances of interface regions and superelement files (``tol.<name>``)."""
 
 from __future__ import annotations
 

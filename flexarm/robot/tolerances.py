@@ -1,8 +1,4 @@
-"""Numerical tolerances of the robot layer (paths, quaternions, RAPID values).
-
-Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
-``dataclasses.replace``.
-"""
+"""Tolerances of paths, quaternions and RAPID values (``tol.<name>``)."""
 
 from __future__ import annotations
 

@@ -1,8 +1,4 @@
-"""Numerical tolerances of the end-to-end jobs (chatter models).
-
-Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
-``dataclasses.replace``.
-"""
+"""Tolerances of the chatter models (``tol.<name>``)."""
 
 from __future__ import annotations
 

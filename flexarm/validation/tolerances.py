@@ -1,9 +1,5 @@
-"""Rules and tolerances of the validation layer: noise defaults, acceptance tests of the
-diagnosis, plausibility limits.
-
-Algorithms read ``tol.<name>``; tests may build their own :class:`Tolerances` with
-``dataclasses.replace``.
-"""
+"""Rules of the diagnosis: noise defaults, acceptance tests, plausibility limits
+(``tol.<name>``; tests may ``dataclasses.replace`` them)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""E-model of the demo arm: mass properties and the acceptance figures of issue 4.
+"""E-model of the demo arm: mass properties and its reference figures (DESIGN §4).
 
 ``python -m pytest tests/assembly/test_emodel.py -s -m slow`` prints the figures with
 the mass properties of the links' tetrahedral meshes (the default run uses the CAD
@@ -38,7 +38,7 @@ def acceptance_figures(robot, arm, n_grid=100):
 
 def check_figures(fig):
     shown = {k: (round(v, 3) if isinstance(v, float) else v) for k, v in fig.items()}
-    print("\nissue-4 acceptance figures:", shown)  # noqa: T201
+    print("\nE-model reference figures:", shown)  # noqa: T201
     assert 5.0 <= fig["defl_y_mm_800N_P1"] <= 7.0
     assert fig["least_stiff_P1"] == "y"
     assert 6.0 <= fig["f1_P1_Hz"] <= 12.0

@@ -98,7 +98,7 @@ def test_rigid_limit_demo(demo_robot):
 @pytest.mark.slow
 @pytest.mark.parametrize("mesh_size", [0.03, 0.04])
 def test_demo_flexible_figures(demo_robot, mesh_size):
-    """Issue 5: the flexible demo arm (CB) lands in the bands of issue 4."""
+    """The flexible demo arm (CB) lands in the same bands as the E-model."""
     from .test_emodel import acceptance_figures, check_figures
 
     arm = flexible_arm(demo_robot, BuildOptions("cb", mesh_size=mesh_size))

@@ -48,7 +48,7 @@ def test_guyan_degrades_with_frequency(box_robot, reference):
 
 @pytest.mark.slow
 def test_demo_p1_cb_within_half_percent(demo_robot):
-    """Issue 5 acceptance at P1, default settings (CB(10), RBE2, 30 mm Tet4)."""
+    """CB vs full FE at P1, default settings (CB(10), RBE2, 30 mm Tet4)."""
     opts = BuildOptions()
     arm = flexible_arm(demo_robot, opts)
     q = demo_robot.pose("P1")

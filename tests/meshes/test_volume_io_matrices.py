@@ -1,4 +1,4 @@
-"""Meshes written by meshio and read back give bit-identical K and M (issue 2)."""
+"""Meshes written by meshio and read back give bit-identical K and M."""
 
 from __future__ import annotations
 

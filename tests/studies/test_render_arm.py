@@ -1,4 +1,4 @@
-"""Arm pictures (issue 5 item 7): recovery to the full field and PyVista output."""
+"""Arm pictures: recovery to the full field and PyVista output."""
 
 import numpy as np
 import pytest
