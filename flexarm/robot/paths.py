@@ -17,22 +17,25 @@ Interpolation follows the programmed geometry:
   TCP path is linear in joint space and needs the arm's kinematics (see ``notes``).
 
 Corner zones (``z100`` ...) are not modelled: the path passes through every target.
-Tolerances below are module constants until they move into ``fe.tolerances``.
-The quaternion helpers live in :mod:`flexarm.robot.quaternions` and are
-re-exported here.
+The geometry of single segments (circles, spheres, line and arc sampling) lives in
+:mod:`flexarm.robot.path_geometry` and the quaternion helpers in
+:mod:`flexarm.robot.quaternions`; the circle/sphere functions and the quaternion helpers
+are re-exported here.
 """
 
 from __future__ import annotations
 
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from ..fe.typing import ArrayLike, BoolArray, FloatArray, IntArray
 from .formats.rapid import JointTarget, Motion, Procedure, RobTarget
+from .path_geometry import circle_through, fit_circle, fit_sphere, sample_arc, sample_line
 from .quaternions import (
     quat_angle,
     quat_conjugate,
@@ -43,7 +46,6 @@ from .quaternions import (
     quat_to_matrix,
     slerp,
 )
-from .tolerances import tol
 
 __all__ = [
     "SampledPath",
@@ -65,140 +67,10 @@ logger = logging.getLogger(__name__)
 
 
 FK = Callable[[FloatArray], "tuple[ArrayLike, ArrayLike]"]
-
-
-# ----------------------------------------------------------------------------- geometry
-
-def circle_through(p1: ArrayLike, p2: ArrayLike, p3: ArrayLike) -> tuple[FloatArray, FloatArray,
-                                                                          FloatArray]:
-    """The circle through three points, exactly.
-
-    Parameters
-    ----------
-    p1, p2, p3 : (..., 3) float
-        Points [any length unit], e.g. a ``MoveC``'s start, ``CirPoint`` and ``ToPoint``.
-
-    Returns
-    -------
-    centre : (..., 3) float
-    normal : (..., 3) float
-        Unit normal oriented so that p1 -> p2 -> p3 runs counter-clockwise about it.
-    radius : (...) float
-
-    Raises
-    ------
-    ValueError
-        If the points are (nearly) collinear or coincide.
-
-    Examples
-    --------
-    >>> c, n, r = circle_through([1, 0, 5], [0, 1, 5], [-1, 0, 5])
-    >>> c.tolist(), n.tolist(), float(r)
-    ([0.0, 0.0, 5.0], [0.0, 0.0, 1.0], 1.0)
-    """
-    p1, p2, p3 = (np.asarray(p, dtype=np.float64) for p in (p1, p2, p3))
-    a = p1 - p3
-    b = p2 - p3
-    axb = np.cross(a, b)
-    area2 = np.sum(axb * axb, axis=-1)
-    la = np.linalg.norm(a, axis=-1)
-    lb = np.linalg.norm(b, axis=-1)
-    if np.any(np.sqrt(area2) <= tol.collinear * la * lb) or np.any(la * lb == 0):
-        raise ValueError("the three points are collinear or coincide: no unique circle")
-    aa = np.sum(a * a, axis=-1)[..., None]
-    bb = np.sum(b * b, axis=-1)[..., None]
-    centre = p3 + np.cross(aa * b - bb * a, axb) / (2.0 * area2[..., None])
-    radius = np.linalg.norm(p1 - centre, axis=-1)
-    # p1 -> p2 -> p3 counter-clockwise about n: n along (p2 - p1) x (p3 - p2) = a x b
-    normal = axb / np.sqrt(area2)[..., None]
-    return centre, normal, radius
-
-
-def _as_points(points: ArrayLike, n_min: int) -> FloatArray:
-    P = np.asarray(points, dtype=np.float64)
-    if P.ndim != 2 or P.shape[1] != 3 or len(P) < n_min:
-        raise ValueError(f"points must be (n, 3) with n >= {n_min}, got {P.shape}")
-    return P
-
-
-def fit_circle(points: ArrayLike) -> tuple[FloatArray, FloatArray, float]:
-    """Least-squares circle in 3-D: best plane (SVD), then an algebraic circle fit in it.
-
-    Parameters
-    ----------
-    points : (n, 3) float
-        n >= 3 points, ideally in traversal order (it fixes the sign of the normal).
-
-    Returns
-    -------
-    centre : (3,) float
-    normal : (3,) float
-        Unit plane normal, oriented so the points run counter-clockwise about it.
-    radius : float
-
-    Notes
-    -----
-    In-plane the fit solves ``x^2 + y^2 = 2 a x + 2 b y + k`` in the linear least-squares
-    sense (Kasa fit; exact for points on a circle), ``r^2 = k + a^2 + b^2``.  Points are
-    centred first for conditioning.
-
-    Examples
-    --------
-    >>> phi = np.linspace(0, 1.5 * np.pi, 7)
-    >>> pts = np.c_[3 + 2 * np.cos(phi), -1 + 2 * np.sin(phi), np.full(7, 4.0)]
-    >>> c, n, r = fit_circle(pts)
-    >>> np.round(c, 12).tolist(), np.round(n, 12).tolist(), round(r, 12)
-    ([3.0, -1.0, 4.0], [0.0, 0.0, 1.0], 2.0)
-    """
-    P = _as_points(points, 3)
-    mean = P.mean(axis=0)
-    X = P - mean
-    _, S, Vt = np.linalg.svd(X, full_matrices=False)
-    if S[1] <= tol.collinear * S[0]:
-        raise ValueError("the points are collinear: no unique circle")
-    e1, normal = Vt[0], Vt[2]
-    e2 = np.cross(normal, e1)
-    u, v = X @ e1, X @ e2
-    A = np.c_[2 * u, 2 * v, np.ones(len(P))]
-    (a, b, k), *_ = np.linalg.lstsq(A, u * u + v * v, rcond=None)
-    radius = float(np.sqrt(k + a * a + b * b))
-    centre = mean + a * e1 + b * e2
-    turn = np.sum(np.cross(P[:-1] - centre, P[1:] - centre) @ normal)
-    if turn < 0:
-        normal = -normal
-    return centre, normal, radius
-
-
-def fit_sphere(points: ArrayLike) -> tuple[FloatArray, float]:
-    """Linear least-squares sphere: ``|p|^2 = 2 c . p + k``, ``r^2 = k + |c|^2``.
-
-    Parameters
-    ----------
-    points : (n, 3) float
-        n >= 4 points, not all in one plane.
-
-    Returns
-    -------
-    centre : (3,) float
-    radius : float
-
-    Examples
-    --------
-    >>> pts = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, 0, 1], [0, 0, -1.0]]) * 2 + 5
-    >>> c, r = fit_sphere(pts)
-    >>> np.round(c, 12).tolist(), round(r, 12)
-    ([5.0, 5.0, 5.0], 2.0)
-    """
-    P = _as_points(points, 4)
-    mean = P.mean(axis=0)
-    X = P - mean
-    S = np.linalg.svd(X, compute_uv=False)
-    if S[2] <= tol.collinear * S[0]:
-        raise ValueError("the points are coplanar: no unique sphere")
-    A = np.c_[2 * X, np.ones(len(P))]
-    sol, *_ = np.linalg.lstsq(A, np.sum(X * X, axis=1), rcond=None)
-    c, k = sol[:3], sol[3]
-    return mean + c, float(np.sqrt(k + c @ c))
+#: A TCP pose: position (3,) [mm] and unit quaternion (4,) ``[w, x, y, z]``.
+Pose = tuple[FloatArray, FloatArray]
+#: Instructions interpolated in joint space (drawn as straight lines here).
+_JOINT_KINDS = ("MoveJ", "MoveAbsJ")
 
 
 # ----------------------------------------------------------------------------- sampling
@@ -251,7 +123,7 @@ class SampledPath:
     @property
     def is_joint_interpolated(self) -> BoolArray:
         """(n,) bool: samples of ``MoveJ``/``MoveAbsJ`` motions (drawn as straight lines)."""
-        joint = np.array([k in ("MoveJ", "MoveAbsJ") for k in self.kinds], dtype=bool)
+        joint = np.array([k in _JOINT_KINDS for k in self.kinds], dtype=bool)
         return joint[self.segments]
 
     @property
@@ -260,46 +132,172 @@ class SampledPath:
         return self.points_mm * 1e-3
 
 
-def _count(length: float, angle: float, step_mm: float, step_rad: float) -> int:
-    return max(1, math.ceil(length / step_mm - 1e-12), math.ceil(angle / step_rad - 1e-12))
+
+class _Segment(NamedTuple):
+    """Samples of one motion, excluding its start pose.
+
+    Attributes
+    ----------
+    points : (m, 3) float
+        TCP positions [mm].
+    quats : (m, 4) float
+        Unit orientations ``[w, x, y, z]``, not yet sign-continuous.
+    arc : (m,) float
+        Path length from the motion's start [mm].
+    end : Pose
+        Programmed destination pose, the start of the next motion.
+    """
+
+    points: FloatArray
+    quats: FloatArray
+    arc: FloatArray
+    end: Pose
 
 
-def _line(p0, q0, p1, q1, step_mm, step_rad):
-    length = float(np.linalg.norm(p1 - p0))
-    n = _count(length, float(quat_angle(q0, q1)), step_mm, step_rad)
-    t = np.arange(1, n + 1) / n
-    pts = p0 + t[:, None] * (p1 - p0)
-    pts[-1] = p1
-    return pts, slerp(q0, q1, t), t * length
+def _target_pose(m: Motion, fk: FK | None) -> Pose:
+    """TCP pose of a motion's destination: position [mm] and unit quaternion.
+
+    Raises
+    ------
+    ValueError
+        If the destination is a joint target and there is no ``fk`` to turn it into a pose.
+    """
+    target = m.to_point
+    if isinstance(target, JointTarget):
+        if fk is None:
+            raise ValueError(f"MoveAbsJ on line {m.line}: a joint target needs fk= "
+                             "(the arm's forward kinematics) to become a TCP pose")
+        pos, quat = fk(np.asarray(target.joints_deg, dtype=np.float64))
+        return np.asarray(pos, dtype=np.float64), quat_normalize(quat)
+    return target.pos_mm, quat_normalize(target.quat)
 
 
-def _arc(p0, q0, cir: RobTarget, to: RobTarget, step_mm, step_rad, line):
-    pc, p1 = cir.pos_mm, to.pos_mm
+def _start_pose(motions: Sequence[Motion], start: RobTarget | None, fk: FK | None,
+                notes: list[str]) -> tuple[Pose, int]:
+    """Pose the path starts from [mm], and the index of the first motion to sample.
+
+    Without ``start`` the first motion's destination is taken (its approach is unknown, so
+    it is noted and not sampled); a ``MoveC`` needs its start, so it cannot come first.
+    """
+    if start is None:
+        if motions[0].kind == "MoveC":
+            raise ValueError(f"MoveC on line {motions[0].line} starts the procedure: pass "
+                             "start= (the robot's pose before it)")
+        pose = _target_pose(motions[0], fk)
+        notes.append(f"path starts at {motions[0].kind} line {motions[0].line}'s destination "
+                     "(the approach from the robot's previous pose is not sampled)")
+        return pose, 1
+    return (start.pos_mm, quat_normalize(start.quat)), 0
+
+
+def _sample_linear(m: Motion, start: Pose, fk: FK | None, step_mm: float,
+                   step_rad: float) -> _Segment:
+    """A ``MoveL`` from ``start``: straight line [mm], SLERP orientation (steps in rad)."""
+    p1, q1 = _target_pose(m, fk)
+    P, Q, S = sample_line(start[0], start[1], p1, q1, step_mm, step_rad)
+    return _Segment(P, Q, S, (p1, q1))
+
+
+def _sample_joint(m: Motion, start: Pose, fk: FK | None, step_mm: float, step_rad: float,
+                  notes: list[str]) -> _Segment:
+    """A ``MoveJ``/``MoveAbsJ`` from ``start``, drawn as ``MoveL`` (steps in mm and rad).
+
+    The true TCP path is linear in joint space and needs the arm's kinematics, so the
+    approximation is recorded in ``notes``.
+    """
+    segment = _sample_linear(m, start, fk, step_mm, step_rad)
+    notes.append(f"{m.kind} line {m.line} drawn as a straight line: the real TCP "
+                 "path is linear in joint space (needs the arm's kinematics)")
+    return segment
+
+
+def _sample_circular(m: Motion, start: Pose, fk: FK | None, step_mm: float,
+                     step_rad: float) -> _Segment:
+    """A ``MoveC`` from ``start`` along its exact circle (steps in mm of arc and rad).
+
+    Raises
+    ------
+    ValueError
+        If start, ``CirPoint`` and ``ToPoint`` are collinear or coincide.
+    """
+    end = _target_pose(m, fk)
+    cir, to = m.cir_point, m.to_point
     try:
-        centre, normal, radius = circle_through(p0, pc, p1)
+        circle = circle_through(start[0], cir.pos_mm, to.pos_mm)
     except ValueError:
-        raise ValueError(f"MoveC on line {line}: start, CirPoint '{cir.name}' and ToPoint "
+        raise ValueError(f"MoveC on line {m.line}: start, CirPoint '{cir.name}' and ToPoint "
                          f"'{to.name}' are collinear or coincide (no circle)") from None
-    u = (p0 - centre) / radius
-    v = np.cross(normal, u)
+    P, Q, S = sample_arc(circle, start[0], start[1], cir.pos_mm, cir.quat, to.pos_mm, to.quat,
+                         step_mm, step_rad)
+    return _Segment(P, Q, S, end)
 
-    def angle_of(p):
-        d = p - centre
-        return float(np.arctan2(d @ v, d @ u)) % (2 * np.pi)
 
-    phi_c, phi_1 = angle_of(pc), angle_of(p1)
-    out_p, out_q, out_s = [], [], []
-    for (a0, a1, qa, qb, p_end) in ((0.0, phi_c, q0, cir.quat, pc),
-                                    (phi_c, phi_1, cir.quat, to.quat, p1)):
-        n = _count(radius * (a1 - a0), float(quat_angle(qa, qb)), step_mm, step_rad)
-        t = np.arange(1, n + 1) / n
-        phi = a0 + t * (a1 - a0)
-        pts = centre + radius * (np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * v)
-        pts[-1] = p_end
-        out_p.append(pts)
-        out_q.append(slerp(qa, qb, t))
-        out_s.append(radius * phi)
-    return np.concatenate(out_p), np.concatenate(out_q), np.concatenate(out_s)
+def _sample_motions(motions: Sequence[Motion], first: int, start: Pose, fk: FK | None,
+                    step_mm: float, step_rad: float,
+                    notes: list[str]) -> list[tuple[int, _Segment]]:
+    """Sample ``motions[first:]`` one after the other, each from the previous destination.
+
+    Returns
+    -------
+    list of (int, _Segment)
+        Index of every sampled motion in ``motions`` and its samples (lengths in mm).
+    """
+    segments = []
+    pose = start
+    for k in range(first, len(motions)):
+        m = motions[k]
+        if m.kind == "MoveC":
+            segment = _sample_circular(m, pose, fk, step_mm, step_rad)
+        elif m.kind in _JOINT_KINDS:
+            segment = _sample_joint(m, pose, fk, step_mm, step_rad, notes)
+        else:
+            segment = _sample_linear(m, pose, fk, step_mm, step_rad)
+        segments.append((k, segment))
+        pose = segment.end
+    return segments
+
+
+def _zone_and_frame_notes(motions: Sequence[Motion]) -> list[str]:
+    """Notes on what the samples ignore: corner zones and mixed tools or work objects."""
+    notes = [f"{m.kind} line {m.line}: corner zone '{m.zone}' not modelled (the path passes "
+             "through the target)" for m in motions if not m.is_fine]
+    wobjs = sorted({m.wobj or "wobj0" for m in motions})
+    tools = sorted({m.tool for m in motions})
+    if len(wobjs) > 1:
+        notes.append(f"instructions use several work objects ({', '.join(wobjs)}): positions "
+                     "are mixed frames")
+    if len(tools) > 1:
+        notes.append(f"instructions use several tools ({', '.join(tools)})")
+    return notes
+
+
+def _sign_continuous(Q: FloatArray) -> FloatArray:
+    """(n, 4) quaternions with signs flipped so neighbours never point apart."""
+    # q and -q are the same rotation; consumers differencing or interpolating samples
+    # need no jump, so flip where a sample points away from its predecessor
+    flips = np.r_[1.0, np.where(np.sum(Q[1:] * Q[:-1], axis=1) < 0, -1.0, 1.0)]
+    return Q * np.cumprod(flips)[:, None]
+
+
+def _assemble(procedure: Procedure, start: Pose, segments: Sequence[tuple[int, _Segment]],
+              notes: list[str]) -> SampledPath:
+    """The start pose (sample 0, of motion 0) and the motions' samples as one path [mm]."""
+    p, q = start
+    pts: list[FloatArray] = [p[None]]
+    quats: list[FloatArray] = [q[None]]
+    segs: list[IntArray] = [np.zeros(1, dtype=np.int64)]
+    arcs: list[FloatArray] = [np.zeros(1)]
+    s0 = 0.0
+    for k, segment in segments:
+        pts.append(segment.points)
+        quats.append(segment.quats)
+        segs.append(np.full(len(segment.points), k, dtype=np.int64))
+        arcs.append(s0 + segment.arc)
+        s0 += float(segment.arc[-1])
+    motions = procedure.motions
+    return SampledPath(procedure.name, np.concatenate(pts), _sign_continuous(np.concatenate(quats)),
+                       np.concatenate(segs), tuple(m.kind for m in motions), np.concatenate(arcs),
+                       tuple(m.line for m in motions), tuple(notes))
 
 
 def sample_procedure(
@@ -348,69 +346,10 @@ def sample_procedure(
     if not motions:
         raise ValueError(f"procedure {procedure.name} has no motions")
     notes: list[str] = []
-
-    def pose(m: Motion) -> tuple[FloatArray, FloatArray]:
-        target = m.to_point
-        if isinstance(target, JointTarget):
-            if fk is None:
-                raise ValueError(f"MoveAbsJ on line {m.line}: a joint target needs fk= "
-                                 "(the arm's forward kinematics) to become a TCP pose")
-            pos, quat = fk(np.asarray(target.joints_deg, dtype=np.float64))
-            return np.asarray(pos, dtype=np.float64), quat_normalize(quat)
-        return target.pos_mm, quat_normalize(target.quat)
-
-    pts: list[FloatArray] = []
-    quats: list[FloatArray] = []
-    segs: list[IntArray] = []
-    arcs: list[FloatArray] = []
-    if start is None:
-        if motions[0].kind == "MoveC":
-            raise ValueError(f"MoveC on line {motions[0].line} starts the procedure: pass "
-                             "start= (the robot's pose before it)")
-        p, q = pose(motions[0])
-        notes.append(f"path starts at {motions[0].kind} line {motions[0].line}'s destination "
-                     "(the approach from the robot's previous pose is not sampled)")
-        first = 1
-    else:
-        p, q = start.pos_mm, quat_normalize(start.quat)
-        first = 0
-    pts.append(p[None])
-    quats.append(q[None])
-    segs.append(np.zeros(1, dtype=np.int64))
-    arcs.append(np.zeros(1))
-    s0 = 0.0
-    for k in range(first, len(motions)):
-        m = motions[k]
-        if m.kind == "MoveC":
-            p1, q1 = pose(m)
-            P, Q, S = _arc(p, q, m.cir_point, m.to_point, step_mm, step_rad, m.line)
-        else:
-            p1, q1 = pose(m)
-            P, Q, S = _line(p, q, p1, q1, step_mm, step_rad)
-            if m.kind in ("MoveJ", "MoveAbsJ"):
-                notes.append(f"{m.kind} line {m.line} drawn as a straight line: the real TCP "
-                             "path is linear in joint space (needs the arm's kinematics)")
-        pts.append(P)
-        quats.append(Q)
-        segs.append(np.full(len(P), k, dtype=np.int64))
-        arcs.append(s0 + S)
-        s0 += float(S[-1])
-        p, q = p1, q1
-    notes += [f"{m.kind} line {m.line}: corner zone '{m.zone}' not modelled (the path passes "
-              "through the target)" for m in motions if not m.is_fine]
-    wobjs = sorted({m.wobj or "wobj0" for m in motions})
-    tools = sorted({m.tool for m in motions})
-    if len(wobjs) > 1:
-        notes.append(f"instructions use several work objects ({', '.join(wobjs)}): positions "
-                     "are mixed frames")
-    if len(tools) > 1:
-        notes.append(f"instructions use several tools ({', '.join(tools)})")
-    Q = np.concatenate(quats)
-    # sign-continuous quaternions: flip where a sample points away from its predecessor
-    flips = np.r_[1.0, np.where(np.sum(Q[1:] * Q[:-1], axis=1) < 0, -1.0, 1.0)]
-    Q = Q * np.cumprod(flips)[:, None]
-    path = SampledPath(procedure.name, np.concatenate(pts), Q, np.concatenate(segs),
-                       tuple(m.kind for m in motions), np.concatenate(arcs),
-                       tuple(m.line for m in motions), tuple(notes))
-    logger.info("sampled %s: %d points, %.1f mm", procedure.name, path.n_points, s0)
+    start_pose, first = _start_pose(motions, start, fk, notes)
+    segments = _sample_motions(motions, first, start_pose, fk, step_mm, step_rad, notes)
+    notes += _zone_and_frame_notes(motions)
+    path = _assemble(procedure, start_pose, segments, notes)
+    logger.info("sampled %s: %d points, %.1f mm", procedure.name, path.n_points,
+                float(path.arc_length_mm[-1]))
     return path

@@ -294,3 +294,27 @@ def test_sampling_errors(thesis):
                             fk=lambda q: ([1333.34, 47.78, 700.0], [0.5, 0.5, 0.5, -0.5]))
     assert path.points_mm[-1].tolist() == [1333.34, 47.78, 700.0]
     assert path.is_joint_interpolated[-1]
+
+
+def test_paths_reexports_segment_geometry():
+    """The geometry moved to ``path_geometry``; ``paths`` keeps exporting the same objects."""
+    from flexarm.robot import path_geometry, paths, quaternions
+
+    for name in ("circle_through", "fit_circle", "fit_sphere"):
+        assert getattr(paths, name) is getattr(path_geometry, name)
+    for name in ("quat_normalize", "quat_to_matrix", "slerp", "quat_angle"):
+        assert getattr(paths, name) is getattr(quaternions, name)
+    assert all(hasattr(paths, name) for name in paths.__all__)
+
+
+def test_sample_arc_keeps_targets_and_steps():
+    from flexarm.robot.path_geometry import sample_arc, sample_line
+
+    q = np.array([1.0, 0, 0, 0])
+    p0, pc, p1 = np.array([10.0, 0, 0]), np.array([0, 10.0, 0]), np.array([-10.0, 0, 0])
+    P, Q, s = sample_arc(circle_through(p0, pc, p1), p0, q, pc, q, p1, q, 1.0, 1.0)
+    assert P[-1].tolist() == p1.tolist() and any(np.array_equal(p, pc) for p in P)
+    assert s[-1] == pytest.approx(10 * math.pi, abs=1e-12)
+    assert np.linalg.norm(np.diff(np.vstack([p0, P]), axis=0), axis=1).max() <= 1.0
+    P, Q, s = sample_line(p0, q, p1, quat_from_intrinsic_xyz([0, 0, 90]), 100.0, math.pi / 18)
+    assert len(P) == 9 and s[-1] == 20.0  # 90 deg in 10 deg steps beats 20 mm in 100 mm
