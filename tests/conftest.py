@@ -149,9 +149,9 @@ def box_robot(tmp_path_factory):
 @pytest.fixture(scope="session")
 def flex_arm(demo_robot):
     """CB(10) flexible demo arm on a coarse 60 mm mesh (cached build)."""
-    from flexarm.studies.contact.circle_models import circle_arm
+    from flexarm.assembly.arm import ArmSpec, build_arm
 
-    return circle_arm(demo_robot, "cb", mesh_size=0.06, n_modes=10)
+    return build_arm(demo_robot, ArmSpec("cb", mesh_size=0.06, n_modes=10)).model
 
 
 @pytest.fixture(scope="session")

@@ -39,3 +39,35 @@ def test_circle_flexible_nonlinear_and_static_overlay(tmp_path, capsys, flex_arm
     assert "bar_mm_E-model_800N" in head and "bar_mm_CB_800N" in head
     for name in ("circle_top.png", "circle_polar.png", "circle_z.png"):
         assert (out / name).stat().st_size > 0
+
+
+def test_circle_prints_the_job_result(tmp_path, capsys, demo_robot):
+    from flexarm.studies.contact import run_circle
+
+    out = tmp_path / "o"
+    assert main(["circle", "--loads", "0,400", "--step", "10", "--pivot", "1333,48,588",
+                 "-o", str(out)]) == 0
+    text = capsys.readouterr().out.splitlines()
+    res = run_circle(demo_robot, loads=[0.0, 400.0], step=10.0, pivot=[1.333, 0.048, 0.588])
+    assert "pivot [1333.0, 48.0, 588.0] mm" in text[0]
+    assert text[:-4] == res.text().splitlines()
+    assert text[-4:] == [f"wrote {out / n}" for n in ("circle_Path_30.csv", "circle_top.png",
+                                                      "circle_polar.png", "circle_z.png")]
+
+
+def test_chatter_prints_the_job_result(capsys, demo_robot):
+    from flexarm.assembly import emodel
+    from flexarm.studies.contact import run_chatter
+
+    assert main(["chatter", "--pose", "P1", "--kc", "3e5", "--normal", "10",
+                 "--duration", "0.05"]) == 0
+    st = run_chatter(emodel(demo_robot), demo_robot.pose("P1"), 3e5, 30.0, 10.0,
+                     duration=0.05)
+    assert capsys.readouterr().out == st.text() + "\n"
+
+
+def test_bad_circle_options_are_one_line_errors(capsys):
+    assert main(["circle", "--loads", "0,lots"]) == 2
+    assert "--loads must be comma-separated numbers" in capsys.readouterr().err
+    assert main(["circle", "--effect", "backlash:j9=1mrad"]) == 2
+    assert "joint 9 outside 1..6" in capsys.readouterr().err

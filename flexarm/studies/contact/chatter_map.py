@@ -12,16 +12,19 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
 from ...assembly.system import ArmModel
+from ...fe.files import atomic_path
 from ...fe.typing import ArrayLike, FloatArray
 from ..tolerances import tol
 from .chatter import char_poly, is_stable, process_vectors
 from .plane_batch import plane_matrices
 
-__all__ = ["critical_kcb", "worst_normal", "ChatterMap", "chatter_map", "recommendation"]
+__all__ = ["critical_kcb", "worst_normal", "ChatterMap", "chatter_map", "chatter_limits_map",
+           "recommendation"]
 
 log = logging.getLogger(__name__)
 
@@ -155,6 +158,24 @@ class ChatterMap:
         return [(float(np.degrees(self.q2[a])), float(np.degrees(self.q3[b])),
                  float(self.kcb[a, b])) for a, b in zip(i2, i3, strict=True)]
 
+    def text(self, n_best: int = 3) -> str:
+        """The ``n_best`` best poses and the :func:`recommendation`, as ``chatter-map``
+        prints them (deg, N/m)."""
+        lines = [f"best: q2={b2:7.1f} deg q3={b3:7.1f} deg limit K_c b={k:.3g} N/m"
+                 for b2, b3, k in self.best(n_best)]
+        return "\n".join(lines + [recommendation(self)])
+
+    def write_csv(self, path) -> Path:
+        """One row per grid pose: ``q2_deg, q3_deg, kcb_limit_N/m, normal_deg, k_weak_N/m``
+        (``inf``: no limit, ``nan``: out of the joint limits), written atomically."""
+        G2, G3 = np.meshgrid(np.degrees(self.q2), np.degrees(self.q3), indexing="ij")
+        rows = np.column_stack([G2.ravel(), G3.ravel(), self.kcb.ravel(),
+                                self.normal_deg.ravel(), self.k_weak.ravel()])
+        with atomic_path(path) as tmp:
+            np.savetxt(tmp, rows, delimiter=",", comments="", fmt="%.9g",
+                       header="q2_deg,q3_deg,kcb_limit_N/m,normal_deg,k_weak_N/m")
+        return Path(path)
+
 
 def chatter_map(arm: ArmModel, q_fixed: ArrayLike, q2: ArrayLike, q3: ArrayLike,
                 dir_deg: float, normal_deg: float | None = None,
@@ -196,6 +217,30 @@ def chatter_map(arm: ArmModel, q_fixed: ArrayLike, q2: ArrayLike, q3: ArrayLike,
     kc = np.where(ok, kc, np.nan)
     log.info("chatter map done")
     return ChatterMap(q2, q3, kc, nd, kw, float(dir_deg), base)
+
+
+def chatter_limits_map(arm: ArmModel, q_fixed: ArrayLike, lower: ArrayLike, upper: ArrayLike,
+                       n: int = 25, dir_deg: float = 30.0, normal_deg: float | None = None,
+                       axes: ArrayLike | None = None) -> ChatterMap:
+    """:func:`chatter_map` on an ``n`` x ``n`` grid spanning the limits ``lower``, ``upper``
+    (6,) [rad] of joints 2 and 3.
+
+    Examples
+    --------
+    >>> from flexarm.assembly import emodel
+    >>> from flexarm.robot import load_robot
+    >>> r = load_robot()
+    >>> cm = chatter_limits_map(emodel(r), r.pose("P1"), r.lower, r.upper, n=3)
+    >>> np.degrees(cm.q2).round(1).tolist(), np.degrees(cm.q3).round(1).tolist()  # limits
+    ([-90.0, 30.0, 150.0], [-180.0, -52.5, 75.0])
+    >>> print(cm.text().splitlines()[1])
+    best: q2=  -90.0 deg q3= -180.0 deg limit K_c b=7.33e+05 N/m
+    """
+    if n < 2:
+        raise ValueError(f"a map needs at least 2 grid points per joint, got {n}")
+    lo, hi = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+    return chatter_map(arm, q_fixed, np.linspace(lo[1], hi[1], n), np.linspace(lo[2], hi[2], n),
+                       dir_deg, normal_deg, axes, lo, hi)
 
 
 def recommendation(cm: ChatterMap) -> str:

@@ -24,12 +24,14 @@ from __future__ import annotations
 
 import logging
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
 from ...assembly.analyses import GRAVITY, gravity_sag
 from ...assembly.statics import series_starts
 from ...assembly.system import ArmModel
+from ...fe.files import atomic_path
 from ...fe.typing import ArrayLike, FloatArray
 from ...robot.kinematics import tcp_frame
 from .ball_bar import CircleSetup, StaticSolver, _transfer, predict_circle
@@ -150,12 +152,12 @@ def synthetic_static_circle(arm: ArmModel, setup: CircleSetup, loads: ArrayLike,
     return out
 
 
-def write_circle_csv(path, runs) -> None:
+def write_circle_csv(path, runs) -> Path:
     """CSV of predicted deviations: one row per path sample, columns per model and load.
 
     ``runs`` = ``[(label, CirclePrediction)]`` on the same setup; columns
     ``bar_mm_<label>_<F>N``, ``radial_mm_…``, ``normal_mm_…`` after ``step, angle_deg,
-    x_mm, y_mm, z_mm`` (the nominal load point).
+    x_mm, y_mm, z_mm`` (the nominal load point).  Written atomically; returns ``path``.
     """
     setup = runs[0][1].setup
     cols = [np.arange(len(setup.points)), np.degrees(setup.angles), *(setup.points * 1e3).T]
@@ -165,5 +167,7 @@ def write_circle_csv(path, runs) -> None:
         for F, b, r, z in zip(pred.loads, pred.bar, pred.radial, pred.normal, strict=True):
             cols += [b * 1e3, r * 1e3, z * 1e3]
             head += [f"{kind}_mm_{tag}{F:.0f}N" for kind in ("bar", "radial", "normal")]
-    np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(head), comments="",
-               fmt="%.9g")
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, np.column_stack(cols), delimiter=",", header=",".join(head),
+                   comments="", fmt="%.9g")
+    return Path(path)

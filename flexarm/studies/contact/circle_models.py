@@ -1,9 +1,9 @@
-"""Arm models and static solvers for the loaded circle test (E-model, flexible, nonlinear).
+"""Static solvers for the loaded circle test with gravity and nonlinear joints.
 
-:func:`circle_arm` builds the arm a circle test runs on by name: ``"emodel"`` (rigid
-links), ``"cb"`` or ``"guyan"`` (links as superelements, :func:`~flexarm.assembly.
-flexible.flexible_arm`).  Both are :class:`~flexarm.assembly.system.ArmModel` s with
-the same kinematics, joints and base, so they differ only in link flexibility.
+The arm is any :class:`~flexarm.assembly.system.ArmModel` of
+:func:`~flexarm.assembly.arm.build_arm`: the E-model (rigid links) or the flexible arm
+(links as superelements) have the same kinematics, joints and base, so they differ only
+in link flexibility.
 
 :func:`nonlinear_solver` is a :data:`~flexarm.studies.contact.ball_bar.StaticSolver`
 with gravity and nonlinear joint laws (backlash, hardening, hysteresis of
@@ -20,7 +20,6 @@ switches: where the bar's torque reverses a joint's gravity torque.
 
 from __future__ import annotations
 
-import logging
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -31,48 +30,7 @@ from ...fe.typing import FloatArray
 from ...robot.kinematics import jacobian
 from .ball_bar import StaticSolver, linear_solver
 
-__all__ = ["MODELS", "circle_arm", "nonlinear_solver", "circle_joint_torques"]
-
-log = logging.getLogger(__name__)
-
-#: Model names accepted by :func:`circle_arm`.
-MODELS = ("emodel", "cb", "guyan")
-
-
-def circle_arm(robot, model: str = "emodel", mass: str = "surface",
-               mesh_size: float | None = None, n_modes: int | None = None) -> ArmModel:
-    """The arm model ``model`` of ``robot`` (see :data:`MODELS`).
-
-    Parameters
-    ----------
-    robot : Robot
-    model : {"emodel", "cb", "guyan"}
-        Rigid links, or links reduced by Craig-Bampton or Guyan.
-    mass : {"surface", "tets"}
-        E-model link mass properties from the CAD surface or the tet mesh.
-    mesh_size : float, optional
-        Tet edge length [m] (default: the robot's); the flexible builds are cached.
-    n_modes : int, optional
-        Fixed-interface modes per link for ``"cb"`` (default: the robot's).
-
-    Examples
-    --------
-    >>> from flexarm.robot.demo_arm import load_demo_robot
-    >>> circle_arm(load_demo_robot(), "emodel").chain.n_joints
-    6
-    """
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {MODELS}, got '{model}'")
-    size = robot.options.mesh_size if mesh_size is None else float(mesh_size)
-    log.info("circle arm: %s (mesh %.3f m)", model, size)
-    if model == "emodel":
-        from ...assembly.emodel import emodel
-
-        return emodel(robot, method=mass, mesh_size=size)
-    from ...assembly.build import BuildOptions
-    from ...assembly.flexible import flexible_arm
-
-    return flexible_arm(robot, BuildOptions(model, n_modes, "rbe2", size))
+__all__ = ["nonlinear_solver", "circle_joint_torques"]
 
 
 def circle_joint_torques(arm: ArmModel, q: FloatArray, wrench: FloatArray,

@@ -1,7 +1,9 @@
 import numpy as np
+import pytest
 
 from flexarm.studies.contact.chatter import analyse, cnc_model, plane_model, process_vectors
 from flexarm.studies.contact.chatter_map import (
+    chatter_limits_map,
     chatter_map,
     critical_kcb,
     recommendation,
@@ -76,3 +78,47 @@ def test_cubic_roots_degenerate_leading_term():
     assert np.allclose(np.sort(r[0, :2].real), [1, 2]) and np.isnan(r[0, 2])
     assert np.isclose(r[1, 0].real, 2.0) and np.isnan(r[1, 1:]).all()
     assert np.allclose(np.sort(r[2].real), [1, 2, 3])
+
+
+@pytest.fixture(scope="module")
+def limits_map(arm, robot):
+    return chatter_limits_map(arm, robot.pose("P1"), robot.lower, robot.upper, n=7)
+
+
+def test_limits_map_spans_the_joint_limits(limits_map, arm, robot):
+    cm = limits_map
+    np.testing.assert_array_equal(cm.q2, np.linspace(robot.lower[1], robot.upper[1], 7))
+    np.testing.assert_array_equal(cm.q3, np.linspace(robot.lower[2], robot.upper[2], 7))
+    ref = chatter_map(arm, robot.pose("P1"), cm.q2, cm.q3, 30.0, lower=robot.lower,
+                      upper=robot.upper)
+    np.testing.assert_array_equal(cm.kcb, ref.kcb)
+    assert np.isinf(cm.kcb).any() and np.isfinite(cm.kcb).sum() > 20
+    with pytest.raises(ValueError, match="at least 2"):
+        chatter_limits_map(arm, robot.pose("P1"), robot.lower, robot.upper, n=1)
+
+
+def test_text_is_the_best_poses_and_the_recommendation(limits_map):
+    lines = limits_map.text().splitlines()
+    assert len(lines) == 4 and lines[3] == recommendation(limits_map)
+    for line, (b2, b3, k) in zip(lines[:3], limits_map.best(3), strict=True):
+        assert line == f"best: q2={b2:7.1f} deg q3={b3:7.1f} deg limit K_c b={k:.3g} N/m"
+
+
+def test_write_csv_round_trip(limits_map, tmp_path):
+    cm = limits_map
+    path = cm.write_csv(tmp_path / "sub" / "chatter_map.csv")
+    assert path.read_text().splitlines()[0] == (
+        "q2_deg,q3_deg,kcb_limit_N/m,normal_deg,k_weak_N/m")
+    rows = np.loadtxt(path, delimiter=",", skiprows=1)
+    G2, G3 = np.meshgrid(np.degrees(cm.q2), np.degrees(cm.q3), indexing="ij")
+    assert rows.shape == (49, 5)
+    for col, ref in zip(rows.T, (G2, G3, cm.kcb, cm.normal_deg, cm.k_weak), strict=True):
+        np.testing.assert_allclose(col, ref.ravel(), rtol=1e-8, atol=1e-12)
+    assert np.isinf(rows[:, 2]).sum() == np.isinf(cm.kcb).sum() > 0
+    # the exact bytes of numpy's "%.9g" writer
+    ref = tmp_path / "ref.csv"
+    np.savetxt(ref, np.column_stack([G2.ravel(), G3.ravel(), cm.kcb.ravel(),
+                                     cm.normal_deg.ravel(), cm.k_weak.ravel()]),
+               delimiter=",", header="q2_deg,q3_deg,kcb_limit_N/m,normal_deg,k_weak_N/m",
+               comments="", fmt="%.9g")
+    assert path.read_bytes() == ref.read_bytes()

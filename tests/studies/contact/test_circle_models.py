@@ -10,11 +10,7 @@ from flexarm.studies.contact.ball_bar import (
     predict_circle,
     rapid_circle,
 )
-from flexarm.studies.contact.circle_models import (
-    circle_arm,
-    circle_joint_torques,
-    nonlinear_solver,
-)
+from flexarm.studies.contact.circle_models import circle_joint_torques, nonlinear_solver
 
 
 @pytest.fixture(scope="module")
@@ -87,7 +83,3 @@ def test_hysteresis_follows_the_path_history(arm, setup30):
     extra = np.linalg.norm(nl.deviation[0] - lin.deviation[0], axis=1)
     assert extra.max() > 1e-4 and extra.min() < 1e-6  # somewhere the lost motion is crossed
 
-
-def test_circle_arm_rejects_unknown_model(robot):
-    with pytest.raises(ValueError, match="emodel"):
-        circle_arm(robot, "rigid")
