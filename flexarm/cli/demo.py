@@ -21,8 +21,8 @@ def _add_demo(p: argparse.ArgumentParser) -> None:
 def _run_demo(args) -> int:
     from ..studies.demo import run_demo
 
-    report = run_demo(args.output, progress=say, part=args.part, jobs=args.jobs)
-    for key, value in report.figures.items():
+    result = run_demo(args.output, progress=say, part=args.part, jobs=args.jobs)
+    for key, value in result.figures.items():
         out(f"{key:>28s}  {value:.6g}")
-    out(f"demo finished in {report.seconds:.1f} s: open {report.folder / 'index.md'}")
+    out(f"demo finished in {result.seconds:.1f} s: open {result.folder / 'index.md'}")
     return 0

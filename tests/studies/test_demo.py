@@ -16,7 +16,8 @@ def test_measurement_demo_error_falls_into_band(tmp_path):
     queue = ctx.SimpleQueue()
     with ProcessPoolExecutor(1, mp_context=ctx, initializer=_init_worker,
                              initargs=(queue,)) as pool:
-        [(lines, f)] = pool.submit(_steps_job, str(tmp_path), ("measurements",)).result()
+        [step] = pool.submit(_steps_job, str(tmp_path), ("measurements",)).result()
+    lines, f = step.lines, step.figures
     said = []
     while not queue.empty():
         said.append(queue.get())
@@ -35,10 +36,11 @@ def test_measurement_demo_error_falls_into_band(tmp_path):
 
 @pytest.mark.slow
 def test_full_demo_writes_index(tmp_path):
-    report = run_demo(tmp_path / "demo")
+    result = run_demo(tmp_path / "demo")
     index = (tmp_path / "demo" / "index.md").read_text()
     assert "E-model" in index and "backlash" in index
-    assert 5.0 < report.figures["emodel_P1_defl_800N_y_mm"] < 7.0
+    assert 5.0 < result.figures["emodel_P1_defl_800N_y_mm"] < 7.0
+    assert index == result.index_text()
 
 
 def test_can_spawn_falls_back_without_semaphores(monkeypatch):
@@ -54,3 +56,22 @@ def test_can_spawn_falls_back_without_semaphores(monkeypatch):
 
     monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoLocks())
     assert not _can_spawn()
+
+
+def test_in_order_run_joins_the_steps_in_index_order(tmp_path, monkeypatch):
+    # without semaphores jobs=2 falls back to one process: every step in index order
+    from flexarm.studies import demo
+    from flexarm.studies.demo_results import StepResult
+
+    def fake(name):
+        return lambda out, progress, *size: StepResult([f"## {name}"], {f"{name}_Hz": 1.0})
+
+    for name in ("part", "emodel", "flexible", "measurement"):
+        monkeypatch.setattr(demo, f"{name}_step", fake(name))
+    monkeypatch.setattr(demo, "_can_spawn", lambda: False)
+    said = []
+    result = demo.run_demo(tmp_path, progress=said.append, part=True, jobs=2)
+    assert said[0].startswith("demo: no process semaphores")
+    assert result.lines == ("## part", "## emodel", "## flexible", "## measurement")
+    assert list(result.figures) == ["part_Hz", "emodel_Hz", "flexible_Hz", "measurement_Hz"]
+    assert (tmp_path / "index.md").read_text() == result.index_text()
