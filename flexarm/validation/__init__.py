@@ -24,13 +24,13 @@ from .formats import (
     write_static,
 )
 from .measurements import DIRECTIONS, FrfData, ModalData, PathData, StaticData
-from .units import QUANTITIES, accepted_units, si_factor
+from .units import QUANTITIES, accepted_units, parse_quantity, si_factor
 
 __all__ = [
     "StaticData", "ModalData", "FrfData", "PathData", "DIRECTIONS",
     "read_measurements", "read_static", "read_modal", "read_frf", "read_path",
     "write_measurements", "write_static", "write_modal", "write_frf", "write_path",
     "MeasurementFileError", "example_path",
-    "QUANTITIES", "accepted_units", "si_factor",
+    "QUANTITIES", "accepted_units", "si_factor", "parse_quantity",
     "formats", "units",
 ]

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..assembly.system import ArmModel
 from ..fe.plotting import pyplot
+from ..fe.text import text_table
 from .fit import Problem, chi2_band
 from .measurements import StaticData
 from .tolerances import tol
@@ -81,6 +82,21 @@ class Comparison:
     band: tuple
     rms: float
     problem: Problem
+
+    def text(self) -> str:
+        """The error table [mm], chi2_red with its band and the RMS [um], as ``compare``
+        prints them."""
+        lo, hi = self.band
+        return "\n".join([
+            text_table(["series", "mean_abs_mm", "max_abs_mm", "relative", "max_meas_mm"],
+                       [[r.series, r.mean_abs_mm, r.max_abs_mm, r.relative, r.max_meas_mm]
+                        for r in self.table], "{:.4f}"),
+            f"chi2_red = {self.chi2_red:.3f} (band {lo:.3f}-{hi:.3f} for the stated noise), "
+            f"RMS = {self.rms * 1e6:.1f} um"])
+
+    def write(self, folder) -> list[Path]:
+        """:func:`write_report` into ``folder``."""
+        return write_report(folder, self)
 
 
 def compare_static(arm: ArmModel, data: StaticData, effects=(),

@@ -22,6 +22,7 @@ from ..assembly.effects import apply_effects
 from ..assembly.linkflex import links_arm, split_links
 from ..assembly.system import ArmModel
 from ..fe.plotting import pyplot
+from ..fe.text import text_table
 from .compare import write_rows
 from .fit import chi2_band
 from .measurements import FrfData, ModalData
@@ -86,6 +87,8 @@ class ModalComparison:
         Acceptance band of ``chi2_red``.
     rms_pct : float
         RMS relative error over the matched rows [%].
+    freq_noise : float
+        The relative frequency noise of ``chi2_red`` [-].
     """
 
     predicted: np.ndarray
@@ -93,6 +96,23 @@ class ModalComparison:
     chi2_red: float
     band: tuple
     rms_pct: float
+    freq_noise: float = tol.freq_noise
+
+    def text(self) -> str:
+        """The frequency-error table [Hz, %], chi2_red with its band and the RMS error
+        [%], as ``compare`` prints them."""
+        # the noise as it was typed in percent: a short decimal survives / 100 * 100
+        pct = round(self.freq_noise * 100, 10)
+        return "\n".join([
+            text_table(["pose", "mode", "measured_Hz", "model_Hz", "error_Hz", "error_%"],
+                       [[r.pose, r.mode, r.measured_hz, r.model_hz, r.error_hz, r.error_pct]
+                        for r in self.table], "{:.3f}"),
+            f"chi2_red = {self.chi2_red:.3f} (band {self.band[0]:.3f}-{self.band[1]:.3f} for "
+            f"{pct}% frequency noise), RMS error {self.rms_pct:.2f}%"])
+
+    def write(self, folder) -> list[Path]:
+        """:func:`write_modal_report` into ``folder``."""
+        return write_modal_report(folder, self)
 
 
 def compare_modal(arm: ArmModel, data: ModalData, effects=(), freq_noise: float = tol.freq_noise,
@@ -126,7 +146,8 @@ def compare_modal(arm: ArmModel, data: ModalData, effects=(), freq_noise: float 
     z = rel[match.matched] / freq_noise
     n = max(len(z), 1)
     return ModalComparison(f_model, tuple(rows), float(z @ z / n), chi2_band(n),
-                           float(100 * np.sqrt(np.mean(z**2)) * freq_noise) if z.size else 0.0)
+                           float(100 * np.sqrt(np.mean(z**2)) * freq_noise) if z.size else 0.0,
+                           freq_noise)
 
 
 @dataclass(frozen=True)
@@ -174,6 +195,17 @@ class FrfComparison:
     data: FrfData
     predicted: np.ndarray
     table: tuple[FrfError, ...]
+
+    def text(self) -> str:
+        """The error table per pose and input/output pair, as ``compare`` prints it."""
+        return text_table(["pose", "in", "out", "rms_log10|H|", "peak_meas_Hz",
+                           "peak_model_Hz", "peak_err_%"],
+                          [[r.pose, r.input, r.output, r.rms_log10_mag, r.peak_meas_hz,
+                            r.peak_model_hz, r.peak_error_pct] for r in self.table], "{:.3f}")
+
+    def write(self, folder) -> list[Path]:
+        """:func:`write_frf_report` into ``folder``."""
+        return write_frf_report(folder, self)
 
 
 def _groups(data: FrfData) -> dict:

@@ -13,7 +13,8 @@ from __future__ import annotations
 
 import json
 import logging
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -23,11 +24,18 @@ from ..assembly.linkflex import links_arm, split_links
 from ..assembly.statics import relative_deflection
 from ..assembly.system import ArmModel
 from ..fe.files import atomic_path
-from ..robot.effects import Effect
-from .formats import write_static
-from .measurements import StaticData
+from ..fe.typing import ArrayLike, PathType
+from ..robot.description import Robot
+from ..robot.effects import Effect, parse_effect
+from .formats import write_modal, write_static
+from .measurements import ModalData, StaticData
+from .modal import virtual_modal
+from .models import DEFAULT_OPTIONS, ModelOptions, load, validation_models
+from .tolerances import tol
+from .units import parse_quantity
 
-__all__ = ["LabPlan", "parse_dirs", "parse_loads", "virtual_lab", "write_lab"]
+__all__ = ["LabPlan", "parse_dirs", "parse_loads", "virtual_lab", "write_lab", "LabFiles",
+           "LabResult", "run_lab"]
 
 log = logging.getLogger(__name__)
 
@@ -132,3 +140,132 @@ def write_lab(path, data: StaticData, truth: dict) -> tuple[Path, Path]:
     with atomic_path(tpath) as tmp:
         tmp.write_text(json.dumps(truth, indent=2, sort_keys=True))
     return path, tpath
+
+
+#: First comment line of every file the lab writes.
+_COMMENT = "virtual lab data (flexarm lab)"
+
+
+@dataclass(frozen=True)
+class LabFiles:
+    """Paths :meth:`LabResult.write` wrote: static CSV, its truth JSON, modal CSV (or None)."""
+
+    static: Path
+    truth: Path
+    modal: Path | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class LabResult:
+    """A virtual lab run (:func:`run_lab`).
+
+    Attributes
+    ----------
+    data : StaticData
+        The static series (SI).
+    truth : dict
+        What ``diagnose`` should find, as written to ``<stem>.truth.json``: ``effects``
+        (:meth:`~flexarm.robot.effects.Effect.to_dict`, SI), ``noise_m`` and
+        ``ref_noise_m`` [m], ``seed``, ``robot`` (its file, or ``"demo"``), and when
+        used ``flexible_mesh_m`` [m] and ``freq_noise`` (relative).
+    modal : ModalData or None
+        Natural frequencies, when asked for.
+    """
+
+    data: StaticData
+    truth: dict
+    modal: ModalData | None = None
+
+    def write(self, path: PathType, modal_path: PathType | None = None) -> LabFiles:
+        """The static CSV ``path`` with ``<stem>.truth.json`` next to it and, given
+        ``modal_path``, the modal CSV (all atomic)."""
+        modal = None
+        if modal_path is not None:
+            if self.modal is None:
+                raise ValueError("this lab run has no modal data: run it with modal=True")
+            modal = write_modal(modal_path, self.modal, (_COMMENT,))
+        static, truth = write_lab(path, self.data, self.truth)
+        return LabFiles(static, truth, modal)
+
+    def text(self, files: LabFiles) -> str:
+        """What the ``lab`` command prints after writing ``files``."""
+        lines = [] if files.modal is None else [
+            f"wrote {files.modal} ({len(self.modal.freq_hz)} frequencies)"]
+        lines.append(f"wrote {files.static} ({len(self.data.series)} readings, "
+                     f"{self.data.n_series} series) and {files.truth}")
+        return "\n".join(lines)
+
+
+def _names(poses: str | Sequence[str]) -> list[str]:
+    if not isinstance(poses, str):
+        return list(poses)
+    return [p.strip() for p in poses.split(",") if p.strip()]
+
+
+def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effect] = (),
+            options: ModelOptions = DEFAULT_OPTIONS, *, noise: float | str = tol.tracker_sigma,
+            poses: str | Sequence[str] = ("P1", "P2", "P3"), loads: str | ArrayLike = "0:800:100",
+            dirs: str | list = "x,y,z", cycles: bool = False, seed: int = 0,
+            ref_noise: float | str = 0.0, modal: bool = False, n_modes: int = 4,
+            freq_noise_pct: float = 100 * tol.freq_noise,
+            progress: Callable[[str], None] | None = None) -> LabResult:
+    """Virtual lab: static series (and natural frequencies) of ``robot``'s E-model with
+    its own effects plus the hidden ``effects``, and tracker noise.
+
+    Parameters
+    ----------
+    robot : Robot, path or None
+        The robot or its file (None: the demo arm).
+    effects : sequence of str or Effect
+        Hidden effects, e.g. ``"backlash:j2=0.1mrad"``; a ``links`` effect builds the
+        flexible model whatever ``options.flexible`` says.
+    options : ModelOptions
+        Models of :func:`~flexarm.validation.models.validation_models`.
+    noise, ref_noise : float or str
+        Tracker noise and the extra error of each series' reference reading [m], or
+        text like ``"15um"``.
+    poses : str or sequence of str
+        Named poses of the robot (``"P1,P2,P3"``).
+    loads : str or (k,) float
+        Load levels [N], ``"0:800:100"`` (start:stop:step) or ``"0,200,400"``.
+    dirs : str or list
+        Load directions, ``"x,y,z,-z"`` (or the list of :func:`parse_dirs`).
+    cycles : bool
+        Load then unload each series.
+    seed : int
+        Noise seed (the modal noise uses the same).
+    modal : bool
+        Also give ``n_modes`` natural frequencies per pose with ``freq_noise_pct`` [%]
+        relative noise.
+    progress : callable (str) -> None, optional
+        Gets a line per step of a flexible-model build.
+
+    Examples
+    --------
+    >>> lab = run_lab(effects=["backlash:j2=0.1mrad"], poses="P1", loads="0:200:100",
+    ...               dirs="z", noise="10um", seed=1)
+    >>> lab.data.disp.shape, lab.truth["noise_m"], lab.truth["effects"][0]["kind"]
+    ((3, 3), 1e-05, 'backlash')
+    """
+    noise = parse_quantity(noise, "length", "noise")
+    ref_noise = parse_quantity(ref_noise, "length", "ref-noise")
+    source = robot.name if isinstance(robot, Robot) else "demo" if robot is None else str(robot)
+    robot = load(robot)
+    effects = list(robot.effects) + [parse_effect(e, len(robot.joints)) if isinstance(e, str)
+                                     else e for e in effects]
+    if any(e.kind == "links" for e in effects):
+        options = replace(options, flexible=True)
+    models = validation_models(robot, options, progress)
+    plan = LabPlan({p: robot.pose(p) for p in _names(poses)},
+                   parse_loads(loads) if isinstance(loads, str) else np.asarray(loads, float),
+                   parse_dirs(dirs) if isinstance(dirs, str) else list(dirs), cycles)
+    data = virtual_lab(models.arm, plan, effects, noise, seed, models.flexible, ref_noise)
+    truth = {"effects": [e.to_dict() for e in effects], "noise_m": noise, "seed": seed,
+             "robot": source, "ref_noise_m": ref_noise}
+    if models.flexible is not None:
+        truth["flexible_mesh_m"] = models.flex_mesh
+    if not modal:
+        return LabResult(data, truth)
+    truth["freq_noise"] = freq_noise_pct / 100
+    return LabResult(data, truth, virtual_modal(models.arm, plan.poses, effects, n_modes,
+                                                freq_noise_pct / 100, seed, models.flexible))

@@ -15,6 +15,7 @@ double ``math.pi / 180``, so ``"170"`` deg reads as exactly ``np.deg2rad(170)``.
 from __future__ import annotations
 
 import math
+import re
 from decimal import Context, Decimal
 from fractions import Fraction
 
@@ -30,6 +31,7 @@ __all__ = [
     "split_column",
     "parse_values",
     "format_values",
+    "parse_quantity",
 ]
 
 #: quantity -> {unit symbol as written canonically: size of one unit in SI, exact}
@@ -48,6 +50,7 @@ QUANTITIES: dict[str, dict[str, Fraction]] = {
 _MICRO = ("\u00b5", "\u03bc")  # micro sign and Greek mu, both read as "u"
 _LOOKUP = {q: {sym.lower(): sym for sym in units} for q, units in QUANTITIES.items()}
 _DIGITS = 17  # significant digits that always identify a double
+_QUANTITY = re.compile(r"([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)(?:\s*([^\W\d_]\S*))?")
 
 
 def accepted_units(quantity: str) -> list[str]:
@@ -98,6 +101,44 @@ def si_factor(quantity: str, unit: str) -> float:
         raise ValueError(f"unknown {quantity} unit '{unit}' "
                          f"(accepted: {', '.join(accepted_units(quantity))})")
     return float(found[1])
+
+
+def parse_quantity(text: str | float, quantity: str = "length", what: str | None = None
+                   ) -> float:
+    """SI value of a number with an optional unit suffix, ``"15um"`` -> ``1.5e-05``.
+
+    The decimal is scaled exactly and rounded once, like a measurement column, so
+    ``"15um"`` is the double nearest to 15e-6 (not ``15 * 1e-6``, one ulp below).
+
+    Parameters
+    ----------
+    text : str or float
+        ``"<number>[<unit>]"`` with a unit of ``quantity`` (case-insensitive, space
+        allowed: ``"0.1 mrad"``); a bare number, or a float, is already SI.
+    quantity : str
+        A key of :data:`QUANTITIES`.
+    what : str, optional
+        Name of the value in error messages (default: ``quantity``).
+
+    Examples
+    --------
+    >>> parse_quantity("15um"), parse_quantity("2kN", "force"), parse_quantity("0.02")
+    (1.5e-05, 2000.0, 0.02)
+    """
+    if not isinstance(text, str):
+        return float(text)
+    m = _QUANTITY.fullmatch(text.strip())
+    if m is None:
+        raise ValueError(f"{what or quantity} '{text}': expected a number with an optional "
+                         f"unit ({', '.join(accepted_units(quantity))})")
+    number, unit = m.groups()
+    if not unit:
+        return float(number)
+    found = unit_factor(quantity, unit)
+    if found is None:
+        raise ValueError(f"{what or quantity} '{text}': unknown {quantity} unit '{unit}' "
+                         f"(accepted: {', '.join(accepted_units(quantity))})")
+    return float(parse_values([number], found[1])[0])
 
 
 def split_column(name: str) -> tuple[str, str | None]:

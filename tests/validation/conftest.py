@@ -8,8 +8,8 @@ import pytest
 from flexarm.robot.effects import parse_effect
 from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab
 
-#: Truth stiffness errors of the lab arm vs the model given to diagnose (±30 %).
-PERTURB = (1.3, 0.7, 1.3, 0.7, 1.3, 0.7)
+from .helpers import PERTURB
+
 #: Coarse mesh [m] of the flexible model in the link-flexibility tests.
 FLEX_MESH = 0.06
 

@@ -1,13 +1,10 @@
-"""compare on modal and FRF data: tables, chi^2_red, plots; and the CLI dispatch."""
+"""compare on modal and FRF data: tables, chi^2_red, plots."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from flexarm.assembly.analyses import frf
-from flexarm.cli import main
 from flexarm.robot.effects import parse_effect
-from flexarm.validation import FrfData, read_measurements, write_frf
 from flexarm.validation.compare_dynamic import (
     compare_frf,
     compare_modal,
@@ -15,6 +12,8 @@ from flexarm.validation.compare_dynamic import (
     write_modal_report,
 )
 from flexarm.validation.modal import virtual_modal
+
+from .helpers import frf_data
 
 
 def _poses(robot):
@@ -59,44 +58,12 @@ def test_compare_modal_matches_by_frequency_and_drops_spurious_lines(demo):
     assert cmp.chi2_red < 1e-12 and cmp.rms_pct < 1e-9
 
 
-def _frf_data(arm, robot, effects=()):
-    from flexarm.assembly.effects import apply_effects
-
-    truth, _ = apply_effects(arm, list(effects))
-    q = robot.pose("P1")
-    f = np.linspace(2.0, 60.0, 40)
-    H = frf(truth, q, f)
-    rows = [("y", "y"), ("z", "z")]
-    n = len(f)
-    return FrfData(poses=["P1"] * (n * len(rows)), q=np.tile(q, (n * len(rows), 1)),
-                   inputs=np.repeat([i for i, _ in rows], n),
-                   outputs=np.repeat([o for _, o in rows], n), freq_hz=np.tile(f, len(rows)),
-                   receptance=np.concatenate([H[:, "xyz".index(o), "xyz".index(i)]
-                                              for i, o in rows]))
-
-
 def test_compare_frf_exact_and_shifted(tmp_path, demo):
     robot, arm = demo
-    cmp = compare_frf(arm, _frf_data(arm, robot))
+    cmp = compare_frf(arm, frf_data(arm, robot))
     assert len(cmp.table) == 2
     assert all(r.rms_log10_mag < 1e-9 and abs(r.peak_error_pct) < 1e-9 for r in cmp.table)
-    cmp = compare_frf(arm, _frf_data(arm, robot, [parse_effect("stiffness:j2=0.5")]))
+    cmp = compare_frf(arm, frf_data(arm, robot, [parse_effect("stiffness:j2=0.5")]))
     assert max(r.rms_log10_mag for r in cmp.table) > 0.05
     paths = write_frf_report(tmp_path, cmp)
     assert all(p.stat().st_size > 0 for p in paths)
-
-
-def test_cli_compare_modal_and_frf(tmp_path, demo, capsys):
-    robot, arm = demo
-    static, modal = tmp_path / "s.csv", tmp_path / "m.csv"
-    assert main(["lab", "--poses", "P1,P2", "--loads", "0:400:200", "--modal", str(modal),
-                 "--n-modes", "3", "-o", str(static)]) == 0
-    assert read_measurements(modal).freq_hz.shape == (6,)
-    assert main(["compare", str(modal), "-o", str(tmp_path / "rm")]) == 0
-    out = capsys.readouterr().out
-    assert "chi2_red" in out and "error_%" in out
-    assert (tmp_path / "rm" / "frequency_errors.png").exists()
-    path = write_frf(tmp_path / "f.csv", _frf_data(arm, robot))
-    assert main(["compare", str(path), "-o", str(tmp_path / "rf")]) == 0
-    assert "peak_model_Hz" in capsys.readouterr().out
-    assert (tmp_path / "rf" / "frf_overlay.png").exists()

@@ -84,19 +84,3 @@ def test_7_seed_sweep(demo, flex, lab):
           + f"\n  found {found}/10, covered {covered}, in band {inside}")
     assert found == 10 and covered >= 9 and inside >= 8
     assert max(gains) <= chi2.ppf(0.999, n_obs - final.dof) and min(gains) >= -1.0
-
-
-@pytest.mark.slow
-def test_cli_lab_modal_diagnose_links(tmp_path, flex, capsys):
-    """flexarm lab --effect links:c=1 --modal m.csv; diagnose s.csv [--flexible | --modal m.csv]."""
-    from flexarm.cli import main
-
-    s, m = tmp_path / "s.csv", tmp_path / "m.csv"
-    pert = [a for j, k in enumerate(PERTURB) for a in ("--effect", f"stiffness:j{j + 1}={k}")]
-    assert main(["lab", "--effect", "links:c=1", *pert, "--dirs", "x,y,z,-x,-y,-z",
-                 "--modal", str(m), "--seed", "1", "-o", str(s)]) == 0
-    assert main(["diagnose", str(s), "--flexible"]) == 0
-    out = capsys.readouterr().out
-    assert "add modal data" in out and "ACCEPTED" not in out
-    assert main(["diagnose", str(s), "--modal", str(m)]) == 0
-    assert "ACCEPTED: link flexibility" in capsys.readouterr().out

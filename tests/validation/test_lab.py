@@ -1,17 +1,13 @@
-"""Virtual lab, compare, history/apply and the CLI commands lab | compare | diagnose."""
+"""Virtual lab, compare and history/apply (the commands: tests/cli/test_validation.py)."""
 
 from __future__ import annotations
-
-import json
 
 import numpy as np
 import pytest
 
-from flexarm.cli import main
 from flexarm.robot.effects import parse_effect
 from flexarm.robot.formats import read as read_robot
 from flexarm.robot.formats import write as write_robot
-from flexarm.validation import read_measurements
 from flexarm.validation.compare import compare_static, write_report
 from flexarm.validation.history import robot_with_effects
 
@@ -53,29 +49,6 @@ def test_apply_roundtrip(tmp_path, demo):
     assert back.base.kind == "spring" and np.isclose(back.joints[2].model.torsion,
                                                      1.3 * robot.joints[2].model.torsion)
     assert effects[0].kind == "backlash" and np.isclose(effects[0].get("width"), 1e-4)
-
-
-def test_cli_lab_diagnose_apply_compare(tmp_path, capsys):
-    data = tmp_path / "data.csv"
-    assert main(["lab", "--effect", "backlash:j2=0.1mrad", "--effect", "stiffness:j1=1.3",
-                 "--dirs", "x,y,z,-x,-y,-z", "--seed", "3", "-o", str(data)]) == 0
-    truth = json.loads((tmp_path / "data.truth.json").read_text())
-    assert truth["effects"][0]["kind"] == "backlash"
-    assert "truth" not in data.read_text()
-    new = tmp_path / "new.toml"
-    assert main(["diagnose", str(data), "--apply", "-o", str(new),
-                 "--report", str(tmp_path / "rep")]) == 0
-    out = capsys.readouterr().out
-    assert "ACCEPTED: joint 2 backlash" in out and (tmp_path / "rep" / "history.png").is_file()
-    assert main(["compare", str(data), "--robot", str(new), "-o", str(tmp_path / "c")]) == 0
-    assert "chi2_red" in capsys.readouterr().out
-    assert (tmp_path / "c" / "residual_vs_torque.png").is_file()
-    assert read_measurements(data).n_series == 18
-
-
-def test_cli_bad_effect(tmp_path, capsys):
-    assert main(["lab", "--effect", "backlash:j9=1mrad", "-o", str(tmp_path / "x.csv")]) == 2
-    assert "joint 9" in capsys.readouterr().err
 
 
 def test_write_report_files(tmp_path, demo, lab):

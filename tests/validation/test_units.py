@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from fractions import Fraction
 
 import numpy as np
@@ -13,6 +14,7 @@ from flexarm.validation.units import (
     QUANTITIES,
     accepted_units,
     format_values,
+    parse_quantity,
     parse_values,
     si_factor,
     split_column,
@@ -95,3 +97,23 @@ def test_file_units_are_converted_to_si(tmp_path):
     assert d.moment[1].tolist() == [250.0, 3.0, 0.0]
     assert d.rot[1].tolist() == [4e-05, 0.0001, 0.0001]
     assert d.sigma.tolist() == [1.5e-05, 1.5e-05]
+
+
+def test_parse_quantity_is_one_rounding_like_a_column():
+    # 15 * 1e-6 is one ulp below 1.5e-5; the text reads as the nearest double
+    assert parse_quantity("15um") == 1.5e-5 and 15 * 1e-6 != 1.5e-5
+    assert parse_quantity(" 0.1 mrad ", "angle") == 1e-4
+    assert parse_quantity("170deg", "angle") == float(np.deg2rad(170.0))
+    assert parse_quantity("2KN", "force") == 2000.0 and parse_quantity("15µm") == 1.5e-5
+    assert parse_quantity("-4.5e-5") == -4.5e-5 and parse_quantity(3e-6) == 3e-6
+    assert parse_quantity("0um") == 0.0
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    ("15parsec", "noise '15parsec': unknown length unit 'parsec' (accepted: m, mm, um, cm, in)"),
+    ("um", "noise 'um': expected a number with an optional unit (m, mm, um, cm, in)"),
+    ("1.2.3um", "noise '1.2.3um': expected a number"),
+])
+def test_parse_quantity_errors_name_the_value(text, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        parse_quantity(text, "length", what="noise")

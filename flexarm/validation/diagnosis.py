@@ -1,0 +1,274 @@
+"""The results of a diagnosis (:func:`~flexarm.validation.diagnose.diagnose`) and their
+text: identifiability, one block per model version (its fit, the candidate ranking, the
+accepted or best refitted candidate) and the notes on what the data cannot test."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+
+from ..fe.text import text_table
+
+__all__ = ["CandidateReport", "Checks", "Winner", "Step", "Identifiability", "Diagnosis",
+           "diagnosis_text", "identifiability_lines", "step_lines"]
+
+
+@dataclass(frozen=True)
+class CandidateReport:
+    """Outcome for one candidate against one model version.
+
+    Attributes
+    ----------
+    name, label : str
+        Candidate key (``"backlash_j2"``) and its readable name (``"joint 2 backlash"``).
+    status : str
+        ``"accepted"``, ``"rejected"``, ``"aliased"`` or ``"untestable"``.
+    dbic : float
+        ΔBIC of the score test against the current model (dimensionless; > 0 favours it).
+    unique : float
+        Share of the candidate's whitened signature the current model cannot mimic (0-1).
+    norm : float
+        Whitened norm of its signature at typical size [noise sigma].
+    detail : str
+        Why this status (alias partner, loads that would test it, failed checks).
+    """
+
+    name: str
+    label: str
+    status: str
+    dbic: float
+    unique: float
+    norm: float
+    detail: str = ""
+
+
+@dataclass(frozen=True)
+class Checks:
+    """Acceptance checks of the refitted best candidate; it is accepted if all pass.
+
+    Attributes
+    ----------
+    dbic : bool
+        ΔBIC of the physical refit > ``tol.delta_bic_accept``.
+    heldout : bool
+        Held-out RMS below ``tol.heldout_gain`` times the current model's (True when
+        the diagnosis runs without held-out validation).
+    plausible : bool
+        Fitted amplitudes inside their physical range.
+    interval : bool
+        Their ``tol.interval_z`` sigma intervals exclude zero (one is enough for the
+        coupled wrist).
+    distinct : bool
+        No aliased candidate correlated with it explains more (False: it is a proxy).
+    """
+
+    dbic: bool
+    heldout: bool
+    plausible: bool
+    interval: bool
+    distinct: bool = True
+
+    @property
+    def passed(self) -> bool:
+        return all(getattr(self, f.name) for f in fields(self))
+
+    @property
+    def failed(self) -> tuple[str, ...]:
+        """Names of the failed checks, in field order."""
+        return tuple(f.name for f in fields(self) if not getattr(self, f.name))
+
+
+@dataclass(frozen=True)
+class Winner:
+    """The best-ranked candidate of one step, refitted with the current model.
+
+    Attributes
+    ----------
+    name, label : str
+        Candidate key and readable name.
+    dbic : float
+        ΔBIC of the physical refit against the current model (dimensionless).
+    params : dict of str -> (float, float)
+        Fitted amplitude name -> (value, standard deviation), SI units of the effect's
+        parameter (e.g. rad for a backlash width, rad/(N m) for a compliance).
+    grid_name : str or None
+        Shape parameter found by search (``"threshold"``, ``"radius"``), if any.
+    grid_value : float or None
+        Its fitted value, SI (e.g. N m).
+    grid_sd : float
+        Its standard deviation, SI (NaN without a shape parameter).
+    checks : Checks
+        The acceptance checks.
+    chi2_red_after : float
+        chi^2_red of the model with this candidate added.
+    rms_heldout_after, rms_fit_after : float
+        Held-out RMS (0 without held-out validation) and fitted RMS of that model [m].
+    """
+
+    name: str
+    label: str
+    dbic: float
+    params: dict[str, tuple[float, float]]
+    grid_name: str | None
+    grid_value: float | None
+    grid_sd: float
+    checks: Checks
+    chi2_red_after: float
+    rms_heldout_after: float
+    rms_fit_after: float
+
+
+@dataclass(frozen=True)
+class Step:
+    """One model version and the candidate ranking against it.
+
+    Attributes
+    ----------
+    label : str
+        ``"baseline + joint 2 backlash + ..."``.
+    effects : tuple of Effect
+        The fitted model (SI parameters).
+    chi2_red : float
+        GLS chi^2 per degree of freedom with the stated noise.
+    band : (float, float)
+        Its acceptance band for ``dof``.
+    dof : float
+        Degrees of freedom (observations minus effective fitted parameters).
+    rms_fit, rms_heldout : float
+        RMS residual of the fitted and of the held-out series [m] (NaN: not computed).
+    candidates : tuple of CandidateReport
+        Ranked: accepted, rejected, aliased, untestable; by ΔBIC within each.
+    winner : Winner or None
+        The refitted best testable candidate (None if there was none).
+    accepted : bool
+        ``winner`` passed every check.
+    explanation : str
+        The winner explained in one sentence.
+    """
+
+    label: str
+    effects: tuple
+    chi2_red: float
+    band: tuple
+    dof: float
+    rms_fit: float
+    rms_heldout: float
+    candidates: tuple = ()
+    winner: Winner | None = None
+    accepted: bool = False
+    explanation: str = ""
+
+
+@dataclass(frozen=True)
+class Identifiability:
+    """How well the data determine the baseline (per-joint torsion compliance scales).
+
+    Attributes
+    ----------
+    singular_values : tuple of float, (n_free,)
+        Singular values of the whitened sensitivity matrix (whitened residual per unit
+        compliance scale, dimensionless), largest first.
+    condition : float
+        Largest over smallest singular value (NaN without free parameters).
+    correlation : tuple of tuple of float, (n_free, n_free)
+        Correlation matrix of the fitted scales.
+    stderr : tuple of float, (n_free,)
+        Standard deviation of each fitted scale (dimensionless; nominal scale 1).
+    sign_changes : dict of str -> tuple of str
+        ``"joint_1"`` ... -> the series in which that joint's torque changes sign.
+    leave_one_pose_out : dict of str -> float
+        Pose label -> chi^2_red on that pose with the model fitted on the other poses
+        (empty with fewer than three poses).
+    """
+
+    singular_values: tuple[float, ...]
+    condition: float
+    correlation: tuple[tuple[float, ...], ...]
+    stderr: tuple[float, ...]
+    sign_changes: dict[str, tuple[str, ...]]
+    leave_one_pose_out: dict[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """All steps, the identifiability report and the final accepted effects.
+
+    Attributes
+    ----------
+    steps : tuple of Step
+        One per model version, the baseline first.
+    identifiability : Identifiability
+        Of the baseline fit.
+    accepted : tuple of Effect
+        The accepted effects with their fitted parameters (SI).
+    final_effects : tuple of Effect
+        The full final model (baseline scales included).
+    notes : tuple of str
+        Effects these data cannot test, and why.
+    """
+
+    steps: tuple
+    identifiability: Identifiability
+    accepted: tuple
+    final_effects: tuple
+    notes: tuple = field(default_factory=tuple)
+
+    @property
+    def final(self) -> Step:
+        return self.steps[-1]
+
+    def text(self) -> str:
+        """The diagnosis as ``diagnose`` prints it (:func:`diagnosis_text`)."""
+        return diagnosis_text(self)
+
+
+
+def identifiability_lines(ident: Identifiability) -> list[str]:
+    """Condition and singular values of the baseline fit, the series in which each
+    joint's torque changes sign, and the leave-one-pose-out chi2_red."""
+    lines = [f"identifiability: condition {ident.condition:.3g}, singular "
+             f"values {', '.join(f'{v:.3g}' for v in ident.singular_values)}"]
+    lines += [f"  {j} torque changes sign in: {', '.join(s) if s else 'no series'}"
+              for j, s in ident.sign_changes.items()]
+    lines += [f"  leave-one-pose-out chi2_red on {k}: {v:.3f}"
+              for k, v in ident.leave_one_pose_out.items()]
+    return lines
+
+
+def step_lines(i: int, step: Step) -> list[str]:
+    """Model version ``i``: its fit (chi2_red, band, RMS [um]), a blank line before it,
+    the candidate table and the verdict on the refitted best candidate."""
+    lines = [f"\nv{i} {step.label}: chi2_red {step.chi2_red:.3f} (band {step.band[0]:.3f}-"
+             f"{step.band[1]:.3f}), RMS fitted {step.rms_fit * 1e6:.1f} um, held-out "
+             f"{step.rms_heldout * 1e6:.1f} um"]
+    if step.candidates:
+        lines.append(text_table(["candidate", "status", "dBIC", "unique", "norm", "detail"],
+                                [[c.label, c.status, f"{c.dbic:.1f}", f"{c.unique:.2f}",
+                                  f"{c.norm:.1f}", c.detail] for c in step.candidates]))
+    if step.winner is not None:
+        lines.append(("ACCEPTED: " if step.accepted else "best, not accepted: ")
+                     + step.explanation)
+    return lines
+
+
+def diagnosis_text(dg: Diagnosis) -> str:
+    """The whole diagnosis as the ``diagnose`` command prints it.
+
+    Examples
+    --------
+    >>> from flexarm.validation.diagnosis import Diagnosis, Identifiability, Step
+    >>> ident = Identifiability((2.0, 1.0), 2.0, ((1.0, 0.0), (0.0, 1.0)), (0.1, 0.1),
+    ...                         {"joint_1": ("P1_+x",), "joint_2": ()})
+    >>> step = Step("baseline", (), 1.02, (0.8, 1.2), 100.0, 15e-6, 16e-6)
+    >>> print(diagnosis_text(Diagnosis((step,), ident, (), (), ("payload: untestable",))))
+    identifiability: condition 2, singular values 2, 1
+      joint_1 torque changes sign in: P1_+x
+      joint_2 torque changes sign in: no series
+    <BLANKLINE>
+    v0 baseline: chi2_red 1.020 (band 0.800-1.200), RMS fitted 15.0 um, held-out 16.0 um
+    note: payload: untestable
+    """
+    lines = identifiability_lines(dg.identifiability)
+    for i, step in enumerate(dg.steps):
+        lines += step_lines(i, step)
+    lines += [f"note: {n}" for n in dg.notes]
+    return "\n".join(lines)

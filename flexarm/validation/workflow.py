@@ -1,0 +1,159 @@
+"""The measurement workflows behind the ``compare`` and ``diagnose`` commands: one call
+from a measurement file and a robot to a result with ``text()`` and writers.
+
+Noise options keep the commands' units (tracker noise in um, frequency noise in %) so
+that a command passes its options through unchanged.  The virtual lab is
+:func:`~flexarm.validation.lab.run_lab`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from pathlib import Path
+
+from ..fe.typing import PathType
+from ..robot.description import Robot
+from ..robot.formats import write as write_robot_file
+from .compare import Comparison, compare_static
+from .compare_dynamic import FrfComparison, ModalComparison, compare_frf, compare_modal
+from .diagnose import Diagnosis, diagnose
+from .formats import read_measurements
+from .history import robot_with_effects, write_history
+from .measurements import FrfData, ModalData, PathData, StaticData
+from .models import DEFAULT_OPTIONS, ModelOptions, ValidationModels, load, validation_models
+
+__all__ = ["compare", "DiagnosisRun", "run_diagnosis"]
+
+Measurements = StaticData | ModalData | FrfData | PathData
+
+
+def _read(data: Measurements | PathType) -> Measurements:
+    if isinstance(data, Measurements):
+        return data
+    return read_measurements(data)
+
+
+def compare(data: Measurements | PathType, robot: Robot | PathType | None = None,
+            options: ModelOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
+            freq_noise_pct: float = 0.5, progress: Callable[[str], None] | None = None
+            ) -> Comparison | ModalComparison | FrfComparison:
+    """Compare the model of ``robot`` with measurements of any kind.
+
+    Parameters
+    ----------
+    data : StaticData, ModalData, FrfData or path
+        The measurements, or their CSV file (the kind is recognised by the columns).
+    robot : Robot, path or None
+        The robot or its file (None: the demo arm); its ``[nonlinear]`` effects are
+        part of the model, and so is link flexibility when ``options.flexible``.
+    options : ModelOptions
+        Models of :func:`~flexarm.validation.models.validation_models`.
+    noise_um : float
+        Tracker noise [um] of static rows without a ``sigma`` column.
+    freq_noise_pct : float
+        Relative noise of measured natural frequencies [%].
+    progress : callable (str) -> None, optional
+        Gets a line per step of a flexible-model build.
+
+    Returns
+    -------
+    Comparison, ModalComparison or FrfComparison
+        By the kind of ``data`` (:func:`~.compare.compare_static`,
+        :func:`~.compare_dynamic.compare_modal`, :func:`~.compare_dynamic.compare_frf`);
+        each has ``text()`` and ``write(folder)``.
+
+    Examples
+    --------
+    >>> from flexarm.validation import example_path
+    >>> cmp = compare(example_path("frf"))
+    >>> [(r.pose, r.input, r.output) for r in cmp.table]
+    [('c1', 'y', 'y'), ('c1', 'y', 'x')]
+    """
+    data = _read(data)
+    models = validation_models(robot, options, progress)
+    effects = models.effects_with_links()
+    if isinstance(data, ModalData):
+        return compare_modal(models.arm, data, effects, freq_noise_pct / 100, models.flexible)
+    if isinstance(data, FrfData):
+        return compare_frf(models.arm, data, effects, models.flexible)
+    if isinstance(data, StaticData):
+        return compare_static(models.arm, data, effects, noise_um * 1e-6, models.flexible)
+    raise ValueError(f"cannot compare a model with {type(data).__name__} (static, modal or "
+                     "FRF data only)")
+
+
+@dataclass(frozen=True, eq=False)
+class DiagnosisRun:
+    """A diagnosis (:func:`run_diagnosis`) with the models it ran on.
+
+    Attributes
+    ----------
+    diagnosis : Diagnosis
+        Steps, identifiability, accepted effects (SI parameters), notes.
+    models : ValidationModels
+        The robot, the diagnosed E-model and the flexible model (if any).
+    """
+
+    diagnosis: Diagnosis
+    models: ValidationModels
+
+    def text(self) -> str:
+        """The diagnosis as ``diagnose`` prints it."""
+        return self.diagnosis.text()
+
+    def updated_robot(self) -> Robot:
+        """The robot with the final model's effects and fitted parameters
+        (:func:`~.history.robot_with_effects`)."""
+        return robot_with_effects(self.models.robot, self.models.arm,
+                                  self.diagnosis.final_effects)
+
+    def write_history(self, folder: PathType) -> list[Path]:
+        """``history.csv``, ``history.json`` and ``history.png`` of the model versions
+        (:func:`~.history.write_history`)."""
+        return write_history(folder, self.diagnosis)
+
+    def write_robot(self, path: PathType) -> Path:
+        """:meth:`updated_robot` as a robot file (``.toml``), atomically."""
+        return Path(write_robot_file(path, self.updated_robot()))
+
+
+def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = None,
+                  options: ModelOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
+                  noise_model: str = "shared", modal: ModalData | PathType | None = None,
+                  freq_noise_pct: float = 0.5,
+                  progress: Callable[[str], None] | None = None) -> DiagnosisRun:
+    """Diagnose which effects the E-model of ``robot`` misses in static ``data``
+    (:func:`~.diagnose.diagnose`).
+
+    Parameters
+    ----------
+    data : StaticData or path
+        Static measurements, or their CSV file.
+    robot : Robot, path or None
+        A linear robot (no ``[nonlinear]`` table) or its file (None: the demo arm).
+    options : ModelOptions
+        Models; with ``options.flexible`` (or ``modal``) link flexibility is a candidate.
+    noise_um : float
+        Tracker noise [um] of rows without a ``sigma`` column.
+    noise_model : {"shared", "independent"}
+        Shared reference reading (GLS) or independent rows.
+    modal : ModalData, path or None
+        Measured natural frequencies, joining every fit.
+    freq_noise_pct : float
+        Their relative noise [%].
+    progress : callable (str) -> None, optional
+        Gets a line per step of a flexible-model build.
+    """
+    robot = load(robot)
+    if robot.effects:
+        raise ValueError("diagnose starts from a linear model: the robot file already has "
+                         "a [nonlinear] table")
+    data = _read(data)
+    modal = None if modal is None else _read(modal)
+    if modal is not None:
+        options = replace(options, flexible=True)
+    models = validation_models(robot, options, progress)
+    dg = diagnose(models.arm, data, noise_um * 1e-6, noise_model, poses=robot.poses,
+                  modal=modal, flexible=models.flexible, freq_noise=freq_noise_pct / 100)
+    return DiagnosisRun(dg, models)
