@@ -30,13 +30,21 @@ def resolve(effect: Effect, arm: ArmModel) -> Effect:
                                         ("threshold", e.get("threshold"))))
     if e.kind in ("tilt", "base") and "stiffness" in dict(e.params):
         return Effect(e.kind, e.joint, (("compliance", 1 / e.get("stiffness")),))
-    if e.kind == "wrist" and any(k.startswith("rho") for k, _ in e.params):
-        c = np.diag(wrist_compliance(arm))
-        idx = {"45": (0, 1), "46": (0, 2), "56": (1, 2)}
-        return Effect(e.kind, None, tuple(
-            (f"c{k[3:]}", v * float(np.sqrt(c[idx[k[3:]][0]] * c[idx[k[3:]][1]])))
-            for k, v in e.params))
+    if e.kind == "wrist":
+        return _wrist_couplings(e, wrist_compliance(arm))
     return e
+
+
+def _wrist_couplings(e: Effect, Cw: np.ndarray) -> Effect:
+    """A wrist effect given by correlations ``rho`` as couplings ``c = rho sqrt(c_i c_j)``
+    of the wrist compliances ``Cw`` (3, 3) [rad/(N m)] it is applied to."""
+    if not any(k.startswith("rho") for k, _ in e.params):
+        return e
+    c = np.diag(Cw)
+    idx = {"45": (0, 1), "46": (0, 2), "56": (1, 2)}
+    return Effect(e.kind, None, tuple(
+        (f"c{k[3:]}", v * float(np.sqrt(c[idx[k[3:]][0]] * c[idx[k[3:]][1]])))
+        for k, v in e.params))
 
 
 def wrist_compliance(arm: ArmModel) -> np.ndarray:
@@ -70,7 +78,9 @@ def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
     wrist_changed = arm.wrist_stiffness is not None
     laws: dict[int, list] = {}
     n = arm.chain.n_joints
-    for e in (resolve(e, arm) for e in effects):
+    for e in effects:
+        # a correlation is one of the compliances as they stand, after any scale before it
+        e = _wrist_couplings(e, Cw) if e.kind == "wrist" else resolve(e, arm)
         j = e.joint
         if e.kind == "stiffness":
             s = max(e.get("scale"), tol.min_compliance_scale)  # a fit may probe s <= 0

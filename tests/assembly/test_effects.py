@@ -114,11 +114,6 @@ def test_wrist_correlations_become_couplings(demo_arm):
     assert apply_effects(demo_arm, [])[0].wrist_stiffness is None
 
 
-@pytest.mark.xfail(strict=True, reason="resolve() turns a wrist correlation rho into a coupling "
-                   "compliance from the *input* arm's wrist compliances, while a stiffness "
-                   "scale applied earlier in the same list has already changed them: "
-                   "[stiffness:j5, wrist:c45] gives correlation rho/2 for scale 4, the reverse "
-                   "order gives rho")
 def test_wrist_correlation_does_not_depend_on_the_order_of_effects(demo_arm):
     wrist, scale = parse_effect("wrist:c45=0.5"), parse_effect("stiffness:j5=0.25")
     for effects in ([wrist, scale], [scale, wrist]):

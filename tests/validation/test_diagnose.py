@@ -27,6 +27,7 @@ from flexarm.validation.diagnose import Checks, diagnose
 from flexarm.validation.fit import Problem
 
 from .conftest import covers, noise_alone
+from .helpers import PERTURB
 
 SIGMA = 15e-6
 #: Seeds of the slow sweeps: all of 0-19, none left out.
@@ -87,8 +88,9 @@ def _hardening_extra(arm):  # K1/K2 = 0.5 is stated against the nominal stiffnes
     return 1 / (0.5 * k) - 1 / k
 
 
-def _wrist_c45(arm):
-    return 0.5 * np.sqrt(1 / arm.joints[3].torsion / arm.joints[4].torsion)
+def _wrist_c45(arm):  # the correlation 0.5 of the lab arm's compliances (after PERTURB)
+    return 0.5 * np.sqrt(1 / (PERTURB[3] * arm.joints[3].torsion)
+                         / (PERTURB[4] * arm.joints[4].torsion))
 
 
 #: Base compliance: 1e7 N m/rad (1e-7 rad/(N m)).  At 2e7 it is at this data set's
