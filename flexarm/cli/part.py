@@ -5,9 +5,6 @@ from __future__ import annotations
 import argparse
 import os
 
-import numpy as np
-
-from ..fe.text import text_table
 from ._common import Progress, command, ints, names, out, wrote
 
 _MATERIAL_HELP = "steel | cast_iron | aluminium | nafems | 'E,nu,rho' in SI units"
@@ -115,6 +112,7 @@ def _run_reduce(args) -> int:
     from ..fe import material_from_string
     from ..meshes import read_volume_mesh
     from ..reduction import NodeSetRegion, formats, parse_cylinder, reduce_with_stats
+    from ..reduction.report import reduction_text
 
     regions = [parse_cylinder(t) for t in args.interface]
     regions += [NodeSetRegion(n) for n in args.node_set]
@@ -130,18 +128,8 @@ def _run_reduce(args) -> int:
             surface_only=not args.volume_nodes, backend=args.backend)
     formats.write(args.output, se, args.format)
     out(f"{args.mesh}: {mesh.n_tets} Tet{4 if mesh.order == 1 else 10}, material "
-        f"{material.name}, mass {se.mass:.6g} kg, COM {np.round(se.center_of_mass, 6)} m")
-    out(text_table(["", "DOF"], [["full FE model", st.n_full], ["coupled", st.n_coupled],
-                                 ["superelement", st.n_reduced]]))
-    out(text_table(["interface", "region nodes", "position [m]"],
-                   [[n, st.region_nodes[n], np.array2string(p, precision=4)]
-                    for n, p in zip(se.interface_names, se.interface_positions, strict=True)]))
-    if se.n_modes:
-        out(text_table(["mode", "fixed-interface freq [Hz]"],
-                       [[i + 1, float(f)] for i, f in enumerate(se.freq_hz)]))
-    steps = [k for k in ("assemble_couple", "factorise", "constraint_modes", "eigen",
-                         "projection", "total") if k in st.seconds]
-    out(text_table(["step", "time [s]"], [[k, float(st.seconds[k])] for k in steps], "{:.3f}"))
+        f"{material.name}, mass {se.mass:.6g} kg, COM {se.center_of_mass.round(6)} m")
+    out(reduction_text(se, st))
     out(f"wrote {args.output}")
     return 0
 
@@ -161,17 +149,10 @@ def _add_show(p: argparse.ArgumentParser) -> None:
          _add_show)
 def _run_show(args) -> int:
     from ..reduction import formats
+    from ..reduction.report import superelement_text
 
     se = formats.read(args.superelement)
-    out(f"{args.superelement}: {se.method} ({se.coupling}), {se.n_dofs} DOF = "
-        f"{se.n_boundary} interface + {se.n_modes} modal; mass {se.mass:.6g} kg, "
-        f"COM {np.round(se.center_of_mass, 6)} m")
-    out(text_table(["interface", "nodes", "position [m]"],
-                   [[n, int(np.sum(se.node_interface == i)),
-                     np.array2string(se.interface_positions[i], precision=4)]
-                    for i, n in enumerate(se.interface_names)]))
-    if se.n_modes:
-        out("fixed-interface frequencies [Hz]: " + ", ".join(f"{f:.6g}" for f in se.freq_hz))
+    out(superelement_text(se, args.superelement))
     if args.mode is None:
         if args.output or args.interactive:
             raise ValueError("--mode N is needed to draw a picture")
