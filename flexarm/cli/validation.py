@@ -18,10 +18,10 @@ def _add_validation_common(p: argparse.ArgumentParser) -> None:
 
 
 def _options(args):
-    """The :class:`~flexarm.validation.models.ModelOptions` of the shared options."""
-    from ..validation.models import ModelOptions
+    """The :class:`~flexarm.validation.models.ValidationOptions` of the shared options."""
+    from ..validation.models import ValidationOptions
 
-    return ModelOptions(args.mass, args.flexible, args.flex_mesh, args.flex_modes)
+    return ValidationOptions(args.mass, args.flexible, args.flex_mesh, args.flex_modes)
 
 
 # --- lab -------------------------------------------------------------------------------

@@ -1,11 +1,14 @@
-"""Validation layer: measurement files and data sets (the first slice of the
-compare/diagnose loop).
+"""Validation layer: measurements, their comparison with the model, and the diagnosis of
+the physical effect the model misses.
 
 Measurement files are CSV with one header row and a unit suffix on every physical
 column; ``#`` lines are comments.  :func:`read_measurements` recognises the kind
 (static, modal, FRF, path) from the columns and returns a frozen dataclass of SI
 arrays; errors are :class:`MeasurementFileError` (a ``ReadError``) naming file, line
-and column.  Imports :mod:`flexarm.fe` only.
+and column.  The jobs: :func:`run_lab` (virtual lab data with hidden effects),
+:func:`compare` (model vs data: errors, chi^2_red, plots) and :func:`run_diagnosis`
+(fit, rank candidate effects, accept, repeat), on the models of
+:func:`validation_models`.
 """
 
 from . import formats, units
@@ -23,8 +26,11 @@ from .formats import (
     write_path,
     write_static,
 )
+from .lab import LabResult, run_lab
 from .measurements import DIRECTIONS, FrfData, ModalData, PathData, StaticData
+from .models import ValidationModels, ValidationOptions, validation_models
 from .units import QUANTITIES, accepted_units, parse_quantity, si_factor
+from .workflow import DiagnosisRun, compare, run_diagnosis
 
 __all__ = [
     "StaticData", "ModalData", "FrfData", "PathData", "DIRECTIONS",
@@ -33,4 +39,6 @@ __all__ = [
     "MeasurementFileError", "example_path",
     "QUANTITIES", "accepted_units", "si_factor", "parse_quantity",
     "formats", "units",
+    "run_lab", "LabResult", "compare", "run_diagnosis", "DiagnosisRun",
+    "validation_models", "ValidationModels", "ValidationOptions",
 ]

@@ -30,7 +30,7 @@ from ..robot.effects import Effect, parse_effect
 from .formats import write_modal, write_static
 from .measurements import ModalData, StaticData
 from .modal import virtual_modal
-from .models import DEFAULT_OPTIONS, ModelOptions, load, validation_models
+from .models import DEFAULT_OPTIONS, ValidationOptions, load, validation_models
 from .tolerances import tol
 from .units import parse_quantity
 
@@ -203,7 +203,7 @@ def _names(poses: str | Sequence[str]) -> list[str]:
 
 
 def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effect] = (),
-            options: ModelOptions = DEFAULT_OPTIONS, *, noise: float | str = tol.tracker_sigma,
+            options: ValidationOptions = DEFAULT_OPTIONS, *, noise: float | str = tol.tracker_sigma,
             poses: str | Sequence[str] = ("P1", "P2", "P3"), loads: str | ArrayLike = "0:800:100",
             dirs: str | list = "x,y,z", cycles: bool = False, seed: int = 0,
             ref_noise: float | str = 0.0, modal: bool = False, n_modes: int = 4,
@@ -219,7 +219,7 @@ def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effec
     effects : sequence of str or Effect
         Hidden effects, e.g. ``"backlash:j2=0.1mrad"``; a ``links`` effect builds the
         flexible model whatever ``options.flexible`` says.
-    options : ModelOptions
+    options : ValidationOptions
         Models of :func:`~flexarm.validation.models.validation_models`.
     noise, ref_noise : float or str
         Tracker noise and the extra error of each series' reference reading [m], or

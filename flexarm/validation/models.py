@@ -20,11 +20,11 @@ from ..robot.description import Robot
 from ..robot.effects import Effect
 from ..robot.loader import load_robot
 
-__all__ = ["ModelOptions", "DEFAULT_OPTIONS", "ValidationModels", "validation_models", "load"]
+__all__ = ["ValidationOptions", "DEFAULT_OPTIONS", "ValidationModels", "validation_models", "load"]
 
 
 @dataclass(frozen=True)
-class ModelOptions:
+class ValidationOptions:
     """Which models a validation run uses.
 
     Parameters
@@ -52,7 +52,7 @@ class ModelOptions:
 
 
 #: The options of the commands' defaults: E-model from the CAD surfaces, no flexible model.
-DEFAULT_OPTIONS = ModelOptions()
+DEFAULT_OPTIONS = ValidationOptions()
 
 
 @dataclass(frozen=True, eq=False)
@@ -93,7 +93,7 @@ def load(robot: Robot | PathType | None) -> Robot:
 
 
 def validation_models(robot: Robot | PathType | None = None,
-                      options: ModelOptions = DEFAULT_OPTIONS,
+                      options: ValidationOptions = DEFAULT_OPTIONS,
                       progress: Callable[[str], None] | None = None) -> ValidationModels:
     """The E-model of ``robot`` and, with ``options.flexible``, its coarse flexible model
     (meshed and reduced on the first run, then from the cache; ``progress`` gets a line

@@ -21,7 +21,7 @@ from .diagnose import Diagnosis, diagnose
 from .formats import read_measurements
 from .history import robot_with_effects, write_history
 from .measurements import FrfData, ModalData, PathData, StaticData
-from .models import DEFAULT_OPTIONS, ModelOptions, ValidationModels, load, validation_models
+from .models import DEFAULT_OPTIONS, ValidationModels, ValidationOptions, load, validation_models
 
 __all__ = ["compare", "DiagnosisRun", "run_diagnosis"]
 
@@ -35,7 +35,7 @@ def _read(data: Measurements | PathType) -> Measurements:
 
 
 def compare(data: Measurements | PathType, robot: Robot | PathType | None = None,
-            options: ModelOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
+            options: ValidationOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
             freq_noise_pct: float = 0.5, progress: Callable[[str], None] | None = None
             ) -> Comparison | ModalComparison | FrfComparison:
     """Compare the model of ``robot`` with measurements of any kind.
@@ -47,7 +47,7 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
     robot : Robot, path or None
         The robot or its file (None: the demo arm); its ``[nonlinear]`` effects are
         part of the model, and so is link flexibility when ``options.flexible``.
-    options : ModelOptions
+    options : ValidationOptions
         Models of :func:`~flexarm.validation.models.validation_models`.
     noise_um : float
         Tracker noise [um] of static rows without a ``sigma`` column.
@@ -119,7 +119,7 @@ class DiagnosisRun:
 
 
 def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = None,
-                  options: ModelOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
+                  options: ValidationOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
                   noise_model: str = "shared", modal: ModalData | PathType | None = None,
                   freq_noise_pct: float = 0.5,
                   progress: Callable[[str], None] | None = None) -> DiagnosisRun:
@@ -132,7 +132,7 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
         Static measurements, or their CSV file.
     robot : Robot, path or None
         A linear robot (no ``[nonlinear]`` table) or its file (None: the demo arm).
-    options : ModelOptions
+    options : ValidationOptions
         Models; with ``options.flexible`` (or ``modal``) link flexibility is a candidate.
     noise_um : float
         Tracker noise [um] of rows without a ``sigma`` column.

@@ -20,7 +20,7 @@ from flexarm.validation.compare_dynamic import (
 from flexarm.validation.history import robot_with_effects
 from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, run_lab, virtual_lab
 from flexarm.validation.modal import virtual_modal
-from flexarm.validation.models import ModelOptions, ValidationModels, validation_models
+from flexarm.validation.models import ValidationModels, ValidationOptions, validation_models
 from flexarm.validation.workflow import compare, run_diagnosis
 
 from .helpers import frf_data
@@ -33,7 +33,7 @@ def test_models_without_flexible_are_the_emodel(demo, lab):
     d = lab(seed=2, perturb=(1,) * 6, poses=("P1",))
     assert compare_static(models.arm, d).chi2_red == compare_static(arm, d).chi2_red
     with pytest.raises(ValueError, match="mass must be one of"):
-        ModelOptions(mass="cad")
+        ValidationOptions(mass="cad")
 
 
 def test_flexible_model_adds_link_flexibility_once(demo):
