@@ -11,8 +11,9 @@ For every link the interface regions are taken from its description in a fixed o
 
 Every superelement goes into the package cache (:mod:`flexarm.fe.cache`) as
 ``superelements/<key>.h5`` with its build statistics as a file attribute; ``key`` covers
-everything that changes the result (the link's solid as its mesher makes it, mesh size,
-element order, material, regions, method, mode count, coupling, :data:`BUILD_VERSION`).
+everything that changes the result (the link's tetrahedra themselves, from the tet cache,
+material, regions, method, mode count, coupling, :data:`BUILD_VERSION`), so a
+superelement always belongs to the mesh that the E-model's mass properties come from.
 """
 
 from __future__ import annotations
@@ -207,18 +208,16 @@ def link_mesh(link: Link, mesh_size: float, order: int = 1, progress=None,
 
 def link_mesh_id(link: Link, mesher: str | Mesher = "tetwild", mesh_size: float = 0.0,
                  order: int = 1) -> str:
-    """What a link's tetrahedra are keyed by in every cache entry computed from them.
+    """Digest of the link's tetrahedra at ``mesh_size`` [m] and ``order``: the key of every
+    cache entry computed from them.
 
-    ``mesher`` is the robot's ``model.mesher`` (the CAD file's solid as that mesher makes
-    it, :func:`~flexarm.meshes.solid_key`) or a :data:`Mesher` callable (its mesh of the
-    link at ``mesh_size`` [m] and ``order``, keyed by the node and element arrays).
+    ``mesher`` is the robot's ``model.mesher`` (the mesh comes from the tet cache, so a
+    mesh made again, which pytetwild makes differently, gets new keys downstream) or a
+    :data:`Mesher` callable.
     """
-    if callable(mesher):
-        mesh = mesher(link, mesh_size, order)
-        return digest(mesh.points, mesh.tets)
-    from ..meshes import solid_key
-
-    return solid_key(link.mesh, link.units, mesher)
+    mesh = (mesher(link, mesh_size, order) if callable(mesher) else
+            link_mesh(link, mesh_size, order, mesher=mesher))
+    return digest(mesh.points, mesh.tets)
 
 
 def _save_build(path: Path, value) -> None:
@@ -269,17 +268,16 @@ def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
         say(f"{lk.name}: rigid (no 'base' region)")
         return LinkBuild(lk.name, None, ())
     mat = link_material(lk, opts.stiffness_scale)
-    key = cache_key("superelements", BUILD_VERSION,
-                    link_mesh_id(lk, mesher or robot.options.mesher, opts.mesh_size, opts.order),
+    t0 = time.perf_counter()
+    mesh = (mesher(lk, opts.mesh_size, opts.order) if mesher is not None else
+            link_mesh(lk, opts.mesh_size, opts.order, progress=say,
+                      mesher=robot.options.mesher))
+    key = cache_key("superelements", BUILD_VERSION, digest(mesh.points, mesh.tets),
                     opts.mesh_size, opts.order, (mat.E, mat.nu, mat.rho),
                     repr([(n, dataclasses.astuple(lk.regions[n])) for n in names]),
                     opts.method, opts.n_modes, opts.coupling, opts.masters)
-    t0 = time.perf_counter()
 
     def build():
-        say(f"{lk.name}: meshing (edge {opts.mesh_size * 1e3:.0f} mm)")
-        mesh = (mesher(lk, opts.mesh_size, opts.order) if mesher is not None else
-                link_mesh(lk, opts.mesh_size, opts.order, mesher=robot.options.mesher))
         say(f"{lk.name}: reducing {mesh.n_dofs} DOF ({opts.label}, {opts.seat})")
         se, st = reduce_with_stats(mesh, mat, cylinder_regions(lk, names),
                                    "nodes" if opts.masters else opts.coupling, opts.method,

@@ -29,38 +29,27 @@ METHODS = ("tets", "surface")
 
 def _mesh_mass_properties(link: Link, method: str, mesh_size: float,
                           mesher: str = "tetwild") -> MassProperties:
-    """Mass properties of a link's CAD solid (package cache)."""
-    from .build import link_mesh_id
+    """Mass properties of a link's CAD solid: volume integrals over its (cached) tetrahedra,
+    or the closed-surface integrals of the CAD (cached by the file's bytes)."""
+    if method == "tets":
+        from .build import link_mesh
 
-    rho = link.material.rho
-    solid = link_mesh_id(link, mesher) if method == "tets" else file_digest(link.mesh)
-    key = cache_key("mass-properties", solid, link.units, rho, method,
-                    mesh_size if method == "tets" else None)
-    d = cached("mass-properties", key, lambda: _mass_properties_dict(link, method, mesh_size,
-                                                                       mesher)).value
+        return mass_properties(link_mesh(link, mesh_size, mesher=mesher), link.material.rho)
+    key = cache_key("mass-properties", file_digest(link.mesh), link.units, link.material.rho)
+    d = cached("mass-properties", key, lambda: _surface_mass_properties(link)).value
     return MassProperties(d["mass"], np.array(d["center_of_mass"]), np.array(d["inertia"]))
 
 
-def _mass_properties_dict(link: Link, method: str, mesh_size: float, mesher: str) -> dict:
-    log.info("mass properties of %s (%s)", link.name, method)
+def _surface_mass_properties(link: Link) -> dict:
+    import trimesh
+
+    log.info("mass properties of %s (CAD surface)", link.name)
+    surface = trimesh.load(link.mesh, force="mesh")
+    surface.apply_scale(LENGTH_UNITS[link.units])
+    tm = surface.mass_properties
     rho = link.material.rho
-    if method == "tets":
-        from ..meshes import load_surface, tetrahedralizer
-
-        surface = load_surface(link.mesh, units=link.units)
-        tets = tetrahedralizer(mesher)(surface, mesh_size, name=link.name)
-        mp = mass_properties(tets, rho)
-    else:
-        import trimesh
-
-        surface = trimesh.load(link.mesh, force="mesh")
-        surface.apply_scale(LENGTH_UNITS[link.units])
-        tm = surface.mass_properties
-        mp = MassProperties(rho * float(tm.volume), np.asarray(tm.center_mass),
-                            rho * np.asarray(tm.inertia))
-    log.info("mass properties of %s done: %.3f kg", link.name, mp.mass)
-    return {"mass": mp.mass, "center_of_mass": mp.center_of_mass.tolist(),
-            "inertia": mp.inertia.tolist()}
+    return {"mass": rho * float(tm.volume), "center_of_mass": np.asarray(tm.center_mass).tolist(),
+            "inertia": (rho * np.asarray(tm.inertia)).tolist()}
 
 
 def link_mass_properties(link: Link, method: str = "surface", mesh_size: float | None = None,

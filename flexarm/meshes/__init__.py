@@ -4,7 +4,7 @@ Imports only :mod:`flexarm.fe`.
 """
 
 from .gmsh_mesher import tetrahedralize_gmsh
-from .pipeline import MESHERS, mesh_part, solid_key, tetrahedralizer
+from .pipeline import MESHERS, mesh_part, tetrahedralizer
 from .primitives import bar_surface, cylinder_surface, hollow_link_surface, write_surface
 from .quality import QualityReport, dihedral_angles, mesh_quality, radius_ratios
 from .repair import check_surface, repair_surface
@@ -26,7 +26,6 @@ __all__ = [
     "radius_ratios",
     "read_volume_mesh",
     "repair_surface",
-    "solid_key",
     "tetrahedralize",
     "tetrahedralize_gmsh",
     "tetrahedralizer",

@@ -7,17 +7,15 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..fe.cache import cache_key
-from ..fe.files import file_digest
 from ..fe.mesh import TetMesh
 from ..fe.typing import PathType
 from .gmsh_mesher import tetrahedralize_gmsh
 from .quality import QualityReport, mesh_quality
 from .surface import load_surface
-from .tet_cache import MESHER_LIBRARY, MESHERS, mesher_key_parts
+from .tet_cache import MESHERS
 from .tetwild import tetrahedralize
 
-__all__ = ["mesh_part", "tetrahedralizer", "solid_key", "DEFAULT_SIZE_FRACTION", "MESHERS"]
+__all__ = ["mesh_part", "tetrahedralizer", "DEFAULT_SIZE_FRACTION", "MESHERS"]
 
 logger = logging.getLogger(__name__)
 
@@ -48,31 +46,6 @@ def tetrahedralizer(mesher: str = "tetwild") -> Callable[..., TetMesh]:
     if mesher == "gmsh":
         return tetrahedralize_gmsh
     raise ValueError(f"mesher must be one of {', '.join(map(repr, MESHERS))}, got {mesher!r}")
-
-
-def solid_key(path: PathType, units: str, mesher: str = "tetwild") -> str:
-    """Identity of the solid that ``mesher`` makes of a CAD file: the file's bytes, its
-    ``units``, the mesher with its version, settings and tolerances.
-
-    Cache keys of results computed from a part's tetrahedra (superelements, mass
-    properties) start from it and add the edge length and element order.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> from flexarm.meshes import bar_surface, write_surface
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "bar.stl"
-    >>> write_surface(path, bar_surface(0.5, 0.05, 0.05))
-    >>> solid_key(path, "m") == solid_key(path, "mm")
-    False
-    """
-    settings = ()
-    if mesher == "gmsh":
-        from .gmsh_model import gmsh_settings
-
-        settings = gmsh_settings()
-    return cache_key("solid", file_digest(path), units, *mesher_key_parts(mesher, settings),
-                     libraries=(MESHER_LIBRARY[mesher],))
 
 
 def mesh_part(
