@@ -21,6 +21,7 @@ from .analyses import (
     stiffness_from_load_cases,
     tcp_compliance,
 )
+from .arm import Arm, ArmSpec, build_arm
 from .bodies import Body, combine_mass_properties, point_mass_properties, rigid_body
 from .build import BuildOptions, LinkBuild, build_link, build_robot
 from .emodel import emodel, link_mass_properties, total_mass
@@ -30,6 +31,9 @@ from .maps import JointSpaceMap, stiffest, stiffness_map
 from .system import ArmModel, SystemMatrices, rigid_tcp_map, system_matrices
 
 __all__ = [
+    "Arm",
+    "ArmSpec",
+    "build_arm",
     "BuildOptions",
     "LinkBuild",
     "build_link",
