@@ -63,7 +63,7 @@ def link_mesh(allow_meshing: bool, size: float = LINK_SIZE):
     """
     try:
         from flexarm.meshes import load_surface, tetrahedralize
-        from flexarm.meshes.tet_cache import load_cached, tet_cache_key
+        from flexarm.meshes.tet_cache import cached_mesh, tet_cache_key
         from flexarm.robot.demo_arm import demo_robot_path
     except ImportError:
         return None
@@ -73,7 +73,7 @@ def link_mesh(allow_meshing: bool, size: float = LINK_SIZE):
     surface = load_surface(stl, units="m")
     key = tet_cache_key(np.asarray(surface.vertices, dtype=np.float64),
                         np.asarray(surface.faces, dtype=np.int64), size, True, 1)
-    mesh = load_cached(key)
+    mesh = cached_mesh(key)
     if mesh is None and allow_meshing:
         mesh = tetrahedralize(surface, size=size, order=1, cache=True, name=LINK_PART)
     if mesh is None:
