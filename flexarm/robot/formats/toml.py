@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +34,7 @@ from ..description import (
 from ..effects import Effect
 from ..joints import JointModel
 
-__all__ = ["read", "write", "FORMAT_VERSION"]
+__all__ = ["read", "write", "dumps", "FORMAT_VERSION"]
 
 FORMAT_VERSION = 1
 _MODEL_KEYS = {"torsion", "tilt", "tilt2", "radial", "axial", "damping_ratio", "rayleigh"}
@@ -330,11 +331,33 @@ def to_dict(robot: Robot, folder: Path) -> dict:
     return out
 
 
-def write(path, robot: Robot) -> None:
-    """Write ``robot`` as TOML (atomically); mesh paths relative to the file."""
+#: An array of scalars as tomli_w writes it: one item per line, trailing commas.
+_SCALAR_ARRAY = re.compile(r"\[\n((?:[ ]+[^\[\]\n]+,\n)+)[ ]*\]")
+
+
+def dumps(data: dict) -> str:
+    """TOML text of ``data`` as people edit it: arrays of numbers on one line
+    (``xyz = [0.15, 0.0, 0.0]``), matrices one row per line.
+
+    Examples
+    --------
+    >>> print(dumps({"tool": {"xyz": [0.15, 0.0, 0.0], "link": "flange"}}), end="")
+    [tool]
+    xyz = [0.15, 0.0, 0.0]
+    link = "flange"
+    """
     import tomli_w
 
+    def one_line(m: re.Match) -> str:
+        items = [line.strip().rstrip(",") for line in m.group(1).splitlines()]
+        return "[" + ", ".join(items) + "]"
+
+    return _SCALAR_ARRAY.sub(one_line, tomli_w.dumps(data))
+
+
+def write(path, robot: Robot) -> None:
+    """Write ``robot`` as TOML (atomically); mesh paths relative to the file."""
     path = Path(path)
     data = to_dict(robot, path.resolve().parent)
     with atomic_path(path) as tmp:
-        tmp.write_bytes(tomli_w.dumps(data).encode())
+        tmp.write_bytes(dumps(data).encode())
