@@ -1,6 +1,7 @@
 """Analyses of an assembled arm at a pose: modes, TCP compliance, FRF, gravity sag.
 
-Every function takes an :class:`~flexarm.assembly.system.ArmModel` and joint angles
+Every function takes an :class:`~flexarm.assembly.system.ArmModel` (or the full-FE arm,
+:class:`~flexarm.assembly.full_arm.FullFEArm`, solved pose by pose) and joint angles
 ``q`` (..., n) [rad]; those marked *batched* accept many poses at once.  Loads and
 displacements at the TCP are in the base frame: (F_x, F_y, F_z [N], M_x, M_y, M_z
 [N m]) and (u_x, u_y, u_z [m], theta_x, theta_y, theta_z [rad]).
@@ -15,6 +16,15 @@ import numpy as np
 
 from ..fe.typing import ArrayLike, FloatArray
 from .batched import constant_stiffness, fast_tcp_compliance, has_constant_stiffness, mass_matrix
+from .full_arm import (
+    FullFEArm,
+    full_frf,
+    full_gravity_sag,
+    full_modes,
+    full_natural_frequencies,
+    full_tcp_compliance,
+)
+from .modal import Modes
 from .system import ArmModel, rotation_blocks, system_matrices
 from .tolerances import tol
 
@@ -95,6 +105,8 @@ def natural_frequencies(arm: ArmModel, q: ArrayLike, chunk: int = 50) -> FloatAr
     :mod:`~flexarm.assembly.batched`) factor ``K`` once and assemble only ``M(q)``,
     ``chunk`` poses at a time (bounds memory and keeps the batches in cache).
     """
+    if isinstance(arm, FullFEArm):
+        return full_natural_frequencies(arm, q)
     q = np.asarray(q, dtype=float)
     if not has_constant_stiffness(arm):
         sm = system_matrices(arm, q)
@@ -109,48 +121,6 @@ def natural_frequencies(arm: ArmModel, q: ArrayLike, chunk: int = 50) -> FloatAr
     return (np.sqrt(np.clip(lam, 0.0, None)) / (2 * np.pi)).reshape(q.shape[:-1] + (-1,))
 
 
-@dataclass(frozen=True)
-class Modes:
-    """Modes of the arm at one pose.
-
-    Attributes
-    ----------
-    freq_hz : (n,) float
-        Natural frequencies [Hz], ascending.
-    shapes : (n_x, n) float
-        Mass-normalised mode shapes on the independent coordinates; the largest
-        entry of each is positive (deterministic sign).
-    tcp_shapes : (6, n) float
-        TCP motion of each mode shape.
-    damping : (n,) float
-        Modal damping ratios [-] (joint ratios weighted by modal strain energy).
-    energy : (n_joints, n) float
-        Share of each mode's strain energy stored in each joint spring [-].
-    coordinate_names : list of str
-    """
-
-    freq_hz: FloatArray
-    shapes: FloatArray
-    tcp_shapes: FloatArray
-    damping: FloatArray
-    energy: FloatArray
-    coordinate_names: list
-
-    @property
-    def omega(self) -> FloatArray:
-        """(n,) angular frequencies [rad/s]."""
-        return 2 * np.pi * self.freq_hz
-
-    def text(self, joint_names) -> str:
-        """Table: mode, frequency [Hz], damping ratio and the energy share per joint."""
-        lines = [f"{'mode':>4s} {'freq_Hz':>10s} {'zeta':>7s}  "
-                 + " ".join(f"{n[-7:]:>7s}" for n in joint_names)]
-        for r, f in enumerate(self.freq_hz):
-            shares = " ".join(f"{e:7.3f}" for e in self.energy[:, r])
-            lines.append(f"{r + 1:4d} {f:10.3f} {self.damping[r]:7.4f}  {shares}")
-        return "\n".join(lines)
-
-
 def modes(arm: ArmModel, q: ArrayLike) -> Modes:
     """All modes of the arm at one pose ``q`` (n,) [rad].
 
@@ -161,6 +131,8 @@ def modes(arm: ArmModel, q: ArrayLike) -> Modes:
     >>> m.freq_hz.shape, bool(m.freq_hz[0] < m.freq_hz[1])
     ((2,), True)
     """
+    if isinstance(arm, FullFEArm):
+        return full_modes(arm, q)
     sm = system_matrices(arm, np.asarray(q, dtype=float))
     lam, Phi = _generalized_eigh(sm.K, sm.M)
     omega = np.sqrt(np.clip(lam, 0.0, None))
@@ -188,6 +160,8 @@ def tcp_compliance(arm: ArmModel, q: ArrayLike) -> FloatArray:
 
     Units: [m/N] for the translational block, [rad/(N m)] for the rotational one.
     """
+    if isinstance(arm, FullFEArm):
+        return full_tcp_compliance(arm, q)
     if has_constant_stiffness(arm):
         # K does not depend on the pose: K^-1 once, only the TCP map per pose
         return fast_tcp_compliance(arm, q)
@@ -285,6 +259,8 @@ def frf(arm: ArmModel, q: ArrayLike, freq_hz: ArrayLike, damping: ArrayLike | No
     (omega_r^2 - omega^2 + 2 i zeta_r omega_r omega)``, ``psi = G_tcp phi``.
     ``H(0)`` is the static gain, equal to :func:`tcp_compliance`.
     """
+    if isinstance(arm, FullFEArm):
+        return full_frf(arm, q, freq_hz, damping)
     md = modes(arm, q)
     zeta = md.damping if damping is None else np.broadcast_to(damping, md.freq_hz.shape)
     w = 2 * np.pi * np.asarray(freq_hz, dtype=float)
@@ -299,6 +275,8 @@ def gravity_sag(arm: ArmModel, q: ArrayLike, gravity: ArrayLike = GRAVITY) -> Fl
 
     The load is ``sum_i T_i^T M_i U_i g`` with ``U_i`` the rigid translation of body i.
     """
+    if isinstance(arm, FullFEArm):
+        return full_gravity_sag(arm, q, gravity)
     sm = system_matrices(arm, q)
     g = np.asarray(gravity, dtype=float)
     f = np.zeros(sm.K.shape[:-1])

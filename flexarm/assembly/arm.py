@@ -17,14 +17,16 @@ from ..robot.description import Robot
 from .build import BuildOptions, LinkBuild, build_robot
 from .emodel import emodel
 from .flexible import flexible_arm
+from .full_arm import FullFEArm, full_arm
 from .system import ArmModel
 
 __all__ = ["MODELS", "MASS_METHODS", "ArmSpec", "Arm", "build_arm"]
 
 log = logging.getLogger(__name__)
 
-#: Arm models: rigid links (E-model), links reduced by Guyan or Craig-Bampton.
-MODELS = ("emodel", "guyan", "cb")
+#: Arm models: rigid links (E-model), links reduced by Guyan or Craig-Bampton, or the
+#: unreduced links (the full-FE reference, solved pose by pose).
+MODELS = ("emodel", "guyan", "cb", "full")
 #: Where E-model link mass properties come from: CAD surface integrals or tet meshes.
 MASS_METHODS = ("surface", "tets")
 
@@ -35,15 +37,17 @@ class ArmSpec:
 
     Parameters
     ----------
-    model : {"emodel", "guyan", "cb"}
-        Rigid links with joint springs, or links reduced by Guyan or Craig-Bampton.
+    model : {"emodel", "guyan", "cb", "full"}
+        Rigid links with joint springs, links reduced by Guyan or Craig-Bampton, or the
+        unreduced links (:class:`~flexarm.assembly.full_arm.FullFEArm`).
     mass : {"surface", "tets"}
         E-model link mass properties: closed-surface integrals of the CAD, or volume
         integrals over the link's tetrahedral mesh (the same solid as the flexible arm).
     mesh_size : float or None
         Tet edge length [m] of flexible links and of ``mass="tets"`` (None: the robot's).
     n_modes : int or None
-        Craig-Bampton modes per link (None: the robot's).
+        Craig-Bampton modes per link (None: the robot's); for ``"full"``, the arm modes
+        computed per pose (None: 12).
     coupling : {"rbe2", "rbe3"}
         Seat coupling of flexible links.
     """
@@ -63,20 +67,24 @@ class ArmSpec:
     @property
     def label(self) -> str:
         """Name for titles and tables: ``E-model``, ``Guyan``, ``CB``."""
-        return {"emodel": "E-model", "guyan": "Guyan", "cb": "CB"}[self.model]
+        return {"emodel": "E-model", "guyan": "Guyan", "cb": "CB", "full": "Full FE"}[self.model]
 
     def build_options(self) -> BuildOptions:
-        """The :class:`BuildOptions` of a flexible model."""
+        """The :class:`BuildOptions` of a flexible model (Guyan seats for ``"full"``)."""
+        if self.model == "full":
+            return BuildOptions("guyan", 0, self.coupling, self.mesh_size)
         return BuildOptions(self.model, self.n_modes, self.coupling, self.mesh_size)
 
 
 @dataclass(frozen=True, eq=False)
 class Arm:
-    """An arm model of ``robot``: ``model`` (the :class:`ArmModel`), the ``spec`` it was
-    built from and the link ``builds`` (None for the E-model)."""
+    """An arm model of ``robot``: ``model`` (an :class:`ArmModel`, or a
+    :class:`~flexarm.assembly.full_arm.FullFEArm` for ``"full"``; every analysis of
+    :mod:`~flexarm.assembly.analyses` takes either), the ``spec`` it was built from and
+    the link ``builds`` (None for the E-model and the full-FE arm)."""
 
     robot: Robot
-    model: ArmModel
+    model: ArmModel | FullFEArm
     spec: ArmSpec
     builds: tuple[LinkBuild, ...] | None = None
 
@@ -98,5 +106,7 @@ def build_arm(robot: Robot, spec: ArmSpec = ArmSpec(),
         size = robot.options.mesh_size if spec.mesh_size is None else float(spec.mesh_size)
         return Arm(robot, emodel(robot, method=spec.mass, mesh_size=size), spec)
     opts = spec.build_options().resolved(robot)
+    if spec.model == "full":
+        return Arm(robot, full_arm(robot, opts, spec.n_modes or 12, progress), spec)
     builds = build_robot(robot, opts, progress=progress)
     return Arm(robot, flexible_arm(robot, opts, builds), spec, builds)

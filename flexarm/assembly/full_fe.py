@@ -185,11 +185,21 @@ class FullFEModel:
         Stiffness and mass on the independent coordinates.
     G_tcp : (6, n_x) sparse CSR
         TCP motion (base frame) from the coordinates.
+    body_maps : tuple of (n_b, n_x) sparse CSR
+        Each body's coordinates (link frame) from the independent coordinates.
+    springs : (n_s, n_s) float or None
+        Foundation and joint springs on the first ``n_s`` coordinates (the foundation's
+        first, then each joint's free directions in joint order).
+    joint_slices : tuple of slice
+        Each joint's coordinates within the first ``n_s``.
     """
 
     K: sp.csr_matrix
     M: sp.csr_matrix
     G_tcp: sp.csr_matrix
+    body_maps: tuple = ()
+    springs: FloatArray | None = None
+    joint_slices: tuple = ()
 
     @property
     def n_dofs(self) -> int:
@@ -251,7 +261,8 @@ def full_fe_matrices(arm: ArmModel, bodies: tuple[SparseBody, ...], q: ArrayLike
     G = (sp.csr_matrix(Rc) @ bodies[c].points[arm.tcp_point] @ B[c]).tocsr()
     K = 0.5 * (K + K.T)
     M = 0.5 * (M + M.T)
-    return FullFEModel(K.tocsr(), M.tocsr(), G)
+    joints = tuple(slice(int(a), int(b)) for a, b in zip(j_start[:-1], j_start[1:], strict=True))
+    return FullFEModel(K.tocsr(), M.tocsr(), G, tuple(B), Ks, joints)
 
 
 @dataclass(frozen=True)
