@@ -33,14 +33,16 @@ def test_surface_mass_ignores_the_mesh_size(demo_robot):
 
 
 def test_labels_and_build_options():
-    assert MODELS == ("emodel", "guyan", "cb") and MASS_METHODS == ("surface", "tets")
-    assert [ArmSpec(m).label for m in MODELS] == ["E-model", "Guyan", "CB"]
+    assert MODELS == ("emodel", "guyan", "cb", "full") and MASS_METHODS == ("surface", "tets")
+    assert [ArmSpec(m).label for m in MODELS] == ["E-model", "Guyan", "CB", "Full FE"]
+    assert ArmSpec("full", mesh_size=0.05).build_options() == BuildOptions("guyan", 0, "rbe2",
+                                                                          0.05)
     spec = ArmSpec("guyan", n_modes=4, coupling="rbe3", mesh_size=0.05)
     assert spec.build_options() == BuildOptions("guyan", 4, "rbe3", 0.05)
 
 
 @pytest.mark.parametrize("kwargs, message", [
-    ({"model": "fe"}, "model must be one of emodel, guyan, cb, got 'fe'"),
+    ({"model": "fe"}, "model must be one of emodel, guyan, cb, full, got 'fe'"),
     ({"mass": "volume"}, "mass must be one of surface, tets, got 'volume'"),
 ])
 def test_unknown_model_or_mass_is_refused(kwargs, message):
