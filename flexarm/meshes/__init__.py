@@ -4,6 +4,7 @@ Imports only :mod:`flexarm.fe`.
 """
 
 from .gmsh_mesher import tetrahedralize_gmsh
+from .hollow import HollowShell, bending_ratio, hollow_surface, wall_for_mass
 from .pipeline import MESHERS, mesh_part, tetrahedralizer
 from .primitives import bar_surface, cylinder_surface, hollow_link_surface, write_surface
 from .quality import QualityReport, dihedral_angles, mesh_quality, radius_ratios
@@ -14,12 +15,15 @@ from .volume_io import read_volume_mesh, write_volume_mesh
 
 __all__ = [
     "MESHERS",
+    "HollowShell",
     "QualityReport",
     "bar_surface",
+    "bending_ratio",
     "check_surface",
     "cylinder_surface",
     "dihedral_angles",
     "hollow_link_surface",
+    "hollow_surface",
     "load_surface",
     "mesh_part",
     "mesh_quality",
@@ -29,6 +33,7 @@ __all__ = [
     "tetrahedralize",
     "tetrahedralize_gmsh",
     "tetrahedralizer",
+    "wall_for_mass",
     "write_surface",
     "write_volume_mesh",
 ]
