@@ -4,7 +4,7 @@ Imports only :mod:`flexarm.fe`.
 """
 
 from .gmsh_mesher import tetrahedralize_gmsh
-from .hollow import HollowShell, bending_ratio, hollow_surface, wall_for_mass
+from .hollow import HollowShell, hollow_surface
 from .pipeline import MESHERS, mesh_part, tetrahedralizer
 from .primitives import bar_surface, cylinder_surface, hollow_link_surface, write_surface
 from .quality import QualityReport, dihedral_angles, mesh_quality, radius_ratios
@@ -12,6 +12,7 @@ from .repair import check_surface, repair_surface
 from .surface import load_surface
 from .tetwild import tetrahedralize
 from .volume_io import read_volume_mesh, write_volume_mesh
+from .wall import bending_ratio, wall_for_mass
 
 __all__ = [
     "MESHERS",

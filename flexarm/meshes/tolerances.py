@@ -1,4 +1,4 @@
-"""Tolerances of CAD checks and tetrahedralisation (``tol.<name>``)."""
+"""Tolerances of CAD checks, hollowing and tetrahedralisation (``tol.<name>``)."""
 
 from __future__ import annotations
 
@@ -22,6 +22,31 @@ class Tolerances:
     tet_envelope: float = 1e-3
     #: |V_tets - V_surface| / V_surface above which tetrahedralisation logs a warning.
     tet_volume_warn: float = 1e-2
+    #: Hollowing: deepest surface vertex below the convex hull, over the largest extent,
+    #: for the surface to count as convex (STL exports of convex hulls stay below ~6e-5).
+    hollow_convex_depth: float = 1e-4
+    #: Hollowing: hull volume the surface may miss, over the hull volume, to count as convex.
+    hollow_convex_volume: float = 1e-3
+    #: Hollowing: a cavity thinner than this times the largest extent (inscribed radius
+    #: minus wall) counts as none: the part stays solid.
+    hollow_solid: float = 1e-6
+    #: Hollowing: an offset hull qhull cannot build is no cavity (a sheet only rounding
+    #: errors thick) if the inscribed radius exceeds the wall by less than this times the
+    #: largest extent; otherwise the qhull error is raised.
+    hollow_flat_cavity: float = 1e-5
+    #: Hollowing (erosion): eroded pieces with volume below this times the largest extent
+    #: cubed are the zero-volume slivers manifold3d leaves where face prisms touch convex
+    #: edges, and are dropped.
+    hollow_sliver_volume: float = 1e-12
+    #: Hollowing (erosion): a face whose twice area is at most this times its longest edge
+    #: squared is a needle or a point without a trustworthy normal (capsules on its edges).
+    hollow_needle_face: float = 1e-8
+    #: Hollowing (erosion): an edge whose far corner lies less than this times the largest
+    #: extent below the other face's plane counts as concave (coplanar edges get a capsule).
+    hollow_flat_edge: float = 1e-9
+    #: Wall for a mass: relative margin on (solid parts + lumped masses) within which a
+    #: target counts as the solid mass (returns the inscribed radius; above: too light).
+    hollow_mass_match: float = 1e-12
 
 
 tol = Tolerances()

@@ -1,4 +1,4 @@
-"""Hollowed CAD hulls: exact shell volumes, closed shells, the wall for a mass, stiffness proxy."""
+"""Hollowed CAD hulls: exact shell volumes, closed shells, solid parts kept solid."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from scipy.spatial.transform import Rotation
 
 from flexarm.fe.errors import MeshError
 from flexarm.meshes import hollow_link_surface, load_surface, tetrahedralize
-from flexarm.meshes.hollow import _Solid, bending_ratio, hollow_surface, wall_for_mass
+from flexarm.meshes.hollow import hollow_surface
 
 IRB_COLLISION = Path("/work/shared/data/irb4600/meshes/collision")
 IRB_LINKS = sorted(IRB_COLLISION.glob("*.stl")) if IRB_COLLISION.is_dir() else []
@@ -137,85 +137,6 @@ def test_cast_link_is_eroded_to_one_genus_2_skin():
     assert 0.95 * link.area * 0.005 < shell.volume < link.area * 0.005
 
 
-def test_erosion_of_a_convex_box_is_exact():
-    """Face prisms alone set the walls of a convex part: the erosion agrees with the
-    exact offset (a cross-check of both constructions)."""
-    box = _moved(trimesh.creation.box((0.5, 0.2, 0.1)))
-    bodies = _Solid(box)._eroded_cavity(0.015, 24)
-    assert len(bodies) == 1
-    assert box.volume - bodies[0].volume == pytest.approx(
-        _box_shell((0.5, 0.2, 0.1), 0.015), rel=1e-9)
-
-
-def _folded_cube(h: float) -> trimesh.Trimesh:
-    """Unit cube whose corner (1, 1, 1) is raised by ``h``, its top split along the
-    *concave* diagonal: every vertex on the hull, the fold h / 2 below it."""
-    v = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0],
-                  [0, 0, 1], [1, 0, 1], [1, 1, 1 + h], [0, 1, 1]], dtype=float)
-    f = np.array([[0, 2, 1], [0, 3, 2], [0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5],
-                  [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7], [4, 5, 7], [5, 6, 7]])
-    return trimesh.Trimesh(v, f, process=False)
-
-
-def test_convex_looking_surface_with_a_deep_face_falls_back_to_erosion():
-    surface = _folded_cube(2e-4)
-    assert surface.is_watertight and surface.volume > 0
-    solid = _Solid(surface)
-    assert solid.is_convex  # by its vertices and volume
-    thin = hollow_surface(surface, 5e-5)  # the fold (1e-4 deep) would cut the cavity
-    thick = hollow_surface(surface, 0.1)
-    assert (thin.method, thick.method) == ("erosion", "convex")
-    for shell in (thin, thick):
-        _assert_closed_shell(shell, surface)
-    assert thick.volume == pytest.approx(1 - 0.8**3, rel=1e-3)
-    assert thin.volume == pytest.approx(6 * 5e-5, rel=1e-3)
-
-
-def test_wall_for_mass_recovers_a_known_wall():
-    boxes = [trimesh.creation.box((0.4, 0.2, 0.1)), _moved(trimesh.creation.box((0.3, 0.3, 0.02)))]
-    rho, lumped, t = [7200.0, 2700.0], [3.0, 2.0], 0.0123
-    # the plate (inscribed radius 10 mm) stays solid at this wall
-    target = rho[0] * _box_shell((0.4, 0.2, 0.1), t) + rho[1] * 0.3 * 0.3 * 0.02 + 5.0
-    assert hollow_surface(boxes[1], t).is_solid
-    assert wall_for_mass(boxes, rho, target, lumped_mass=lumped) == pytest.approx(t, abs=1e-9)
-    # one density for both
-    target = 7200.0 * (_box_shell((0.4, 0.2, 0.1), 0.004) + _box_shell((0.3, 0.3, 0.02), 0.004))
-    assert wall_for_mass(boxes, 7200.0, target) == pytest.approx(0.004, abs=1e-9)
-
-
-def test_wall_for_mass_refuses_impossible_targets():
-    boxes = [trimesh.creation.box((0.4, 0.2, 0.1))]  # 0.008 m^3: 57.6 kg solid
-    with pytest.raises(ValueError, match="too light"):
-        wall_for_mass(boxes, 7200.0, 60.0)
-    with pytest.raises(ValueError, match="lumped"):
-        wall_for_mass(boxes, 7200.0, 10.0, lumped_mass=10.0)
-    with pytest.raises(ValueError, match="densities"):
-        wall_for_mass(boxes, 0.0, 10.0)
-    with pytest.raises(ValueError, match="at least one"):
-        wall_for_mass([], 7200.0, 10.0)
-    # exactly solid: the smallest wall that fills every part
-    assert wall_for_mass(boxes, 7200.0, 57.6 + 1.0, lumped_mass=1.0) == pytest.approx(0.05)
-
-
-def test_bending_ratio_of_a_hollow_cube():
-    a, t = 0.2, 0.01
-    cube = trimesh.creation.box((a, a, a))
-    ratio = bending_ratio(cube, hollow_surface(cube, t))
-    # int x^2 dV of a cube of side a is a^5 / 12, about every axis
-    np.testing.assert_allclose(ratio, 1 - ((a - 2 * t) / a) ** 5, rtol=1e-12)
-    np.testing.assert_allclose(bending_ratio(cube, cube), 1.0, rtol=1e-12)
-
-
-def test_bending_ratio_of_a_turned_tube_is_its_section_ratio():
-    length, side, t = 1.0, 0.1, 0.005
-    bar = _moved(trimesh.creation.box((length, side, side)))
-    ratio = bending_ratio(bar, hollow_surface(bar, t))
-    inner = (side - 2 * t) / side
-    along = 1 - inner**2 * ((length - 2 * t) / length) ** 3
-    across = 1 - inner**4 * (length - 2 * t) / length  # the end walls add 2 t / length
-    np.testing.assert_allclose(ratio, [along, across, across], rtol=1e-9)
-
-
 @pytest.mark.skipif(not IRB_LINKS, reason="shared IRB 4600 data not present")
 @pytest.mark.parametrize("path", IRB_LINKS, ids=lambda p: p.stem)
 def test_irb4600_links_hollow_to_a_10mm_shell(path):
@@ -231,15 +152,6 @@ def test_irb4600_links_hollow_to_a_10mm_shell(path):
     area = surface.area
     assert 0.75 * area * t < shell.volume < area * t
     assert shell.volume == pytest.approx(area * t - mean_curvature * t**2, rel=0.05)
-
-
-@pytest.mark.skipif(not IRB_LINKS, reason="shared IRB 4600 data not present")
-def test_irb4600_wall_for_its_datasheet_mass():
-    surfaces = [load_surface(p) for p in IRB_LINKS]
-    t = wall_for_mass(surfaces, 7200.0, 425.0)
-    assert 0.005 < t < 0.03
-    mass = sum(7200.0 * hollow_surface(s, t).volume for s in surfaces)
-    assert mass == pytest.approx(425.0, rel=1e-6)
 
 
 def test_tet_mesh_of_a_hollow_box_has_the_shell_volume():

@@ -1,0 +1,338 @@
+"""The cavity of a closed solid: every point at least a wall thickness ``t`` inside it.
+
+:func:`~flexarm.meshes.hollow.hollow_surface` turns the cavity into a shell.  It is built
+in one of two ways:
+
+``"convex"``
+    The surface is convex up to CAD faceting noise (``tol.hollow_convex_depth``,
+    ``tol.hollow_convex_volume``): the cavity is the intersection of its hull's face
+    half-spaces moved inward by ``t``.  This *is* the inward offset of a convex body,
+    exact to rounding, and takes milliseconds (qhull).
+``"erosion"``
+    Any other closed surface: the morphological erosion ``S - (dS (+) B_t)`` with
+    manifold3d.  The swept ball is the union of one prism per face (``t`` either side
+    along the face normal: exact walls on every face and at convex edges) and of a
+    capsule around every concave edge, the hull of a geodesic polyhedron *inscribed* in
+    the ball at both ends.  Only there, where a casting has its fillets, the wall comes
+    out slightly thinner than ``t`` (at most 2.2 %, 0.7 % on average with the default
+    :data:`BALL_SEGMENTS`), never thicker.  Seconds for a few thousand faces.
+
+Imports only :mod:`flexarm.fe` and :mod:`flexarm.meshes`.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Sequence
+
+import numpy as np
+import trimesh
+from scipy.optimize import linprog
+from scipy.spatial import ConvexHull, HalfspaceIntersection, QhullError
+
+from ..fe.errors import MeshError
+from .repair import check_surface
+from .tolerances import tol
+
+__all__ = ["BALL_SEGMENTS"]
+
+logger = logging.getLogger(__name__)
+
+#: Segments of the geodesic ball swept along concave edges (erosion only).  Its support
+#: falls short of the ball's by at most 2.2 % (mean 0.7 %) at 24, 4.5 % at 16, 1.3 % at 32;
+#: the cost grows with its square.
+BALL_SEGMENTS = 24
+#: Planes of the hull closer than this (normals; offsets over the largest extent) merge.
+_PLANE_DIGITS = 12
+#: Target size of the temporary (points x planes) arrays [elements].
+_CHUNK = 1 << 22
+
+
+def _planes(equations: np.ndarray, size: float) -> tuple[np.ndarray, np.ndarray]:
+    """Unique hull planes as unit normals (J, 3) and offsets (J,): inside is n.x <= d."""
+    normals = equations[:, :3]
+    offsets = -equations[:, 3]
+    # qhull splits coplanar faces into triangles with (nearly) the same plane: merging
+    # them avoids needle facets in the offset polytope and shrinks every later array.
+    key = np.round(np.column_stack([normals, offsets / size]), _PLANE_DIGITS)
+    _, first = np.unique(key, axis=0, return_index=True)
+    first.sort()
+    return normals[first], offsets[first]
+
+
+def _chebyshev(normals: np.ndarray, offsets: np.ndarray) -> tuple[np.ndarray, float]:
+    """Centre and radius [m] of the largest ball inside {x : normals x <= offsets}.
+
+    Moving every plane inward by t leaves the same centre with radius R - t, so one
+    linear programme gives every offset polytope's interior point and the thickness R
+    at which nothing is left.
+    """
+    a_ub = np.column_stack([normals, np.ones(len(normals))])
+    res = linprog(
+        c=[0.0, 0.0, 0.0, -1.0],
+        A_ub=a_ub,
+        b_ub=offsets,
+        bounds=[(None, None)] * 3 + [(0.0, None)],
+        method="highs",
+    )
+    if res.status != 0:
+        raise MeshError(f"no inscribed ball in the convex hull ({res.message})")
+    return res.x[:3], float(res.x[3])
+
+
+def _vertex_depth(points, normals, offsets) -> np.ndarray:
+    """Distance [m] of each point below the boundary of the convex polytope (>= 0 inside)."""
+    depth = np.empty(len(points))
+    step = max(1, _CHUNK // len(normals))
+    for i in range(0, len(points), step):
+        depth[i:i + step] = (offsets - points[i:i + step] @ normals.T).min(axis=1)
+    return depth
+
+
+def _face_depth_bound(triangles, normals, offsets) -> np.ndarray:
+    """Upper bound [m] on how deep each triangle (F, 3, 3) reaches below the hull surface.
+
+    The depth of a point, min_j (d_j - n_j x), is below every single plane's distance,
+    whose maximum over a triangle is at a corner: so min_j max_corner is an upper bound.
+    It is tight for faces lying on a hull facet and loose only for the few that straddle
+    a hull edge; those get the exact linear programme of :meth:`_Solid._face_depth`.
+    """
+    bound = np.empty(len(triangles))
+    step = max(1, _CHUNK // (3 * len(normals)))
+    for i in range(0, len(triangles), step):
+        depth = offsets - triangles[i:i + step] @ normals.T  # (f, 3, J)
+        bound[i:i + step] = depth.max(axis=1).min(axis=1)
+    return bound
+
+
+def _unit_ball(segments: int) -> np.ndarray:
+    """Vertices (n, 3) of manifold3d's geodesic unit sphere (on the sphere: inscribed)."""
+    from manifold3d import Manifold
+
+    mesh = Manifold.sphere(1.0, int(segments)).to_mesh64()
+    return np.array(mesh.vert_properties, dtype=np.float64)[:, :3]
+
+
+def _to_trimesh(solid) -> trimesh.Trimesh:
+    mesh = solid.to_mesh64()
+    vertices = np.array(mesh.vert_properties, dtype=np.float64)[:, :3]
+    return trimesh.Trimesh(vertices, np.array(mesh.tri_verts, dtype=np.int64), process=False)
+
+
+def _hull_mesh(points: np.ndarray) -> trimesh.Trimesh:
+    """Closed, outward-wound surface of the convex hull of ``points`` (n, 3).
+
+    Not :func:`trimesh.convex.convex_hull`: its repair drops qhull's needle triangles
+    (offset planes of nearly coplanar CAD facets make some) and leaves the hull open.
+    """
+    hull = ConvexHull(points)
+    used = np.unique(hull.simplices)
+    new_id = np.zeros(len(points), dtype=np.int64)
+    new_id[used] = np.arange(len(used))
+    vertices, faces = points[used], new_id[hull.simplices]
+    # qhull's triangles come in either winding: turn each to its facet's outward normal
+    tri = vertices[faces]
+    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    flip = np.einsum("ij,ij->i", cross, hull.equations[:, :3]) < 0
+    faces[flip] = faces[flip][:, ::-1]
+    mesh = trimesh.Trimesh(vertices, faces, process=False)
+    if not mesh.is_winding_consistent:  # a needle's cross product may have lied
+        trimesh.repair.fix_winding(mesh)
+        if mesh.volume < 0:
+            mesh.invert()
+    return mesh
+
+
+def _winding_number(point: np.ndarray, triangles: np.ndarray) -> float:
+    """How often the closed surface of ``triangles`` (F, 3, 3) winds around ``point``.
+
+    1 inside an outward-wound surface, 0 outside: the solid angles of all faces seen from
+    the point (Van Oosterom & Strackee), summed.  Exact for any closed surface, however
+    non-convex, and robust for points not on it.
+    """
+    a, b, c = np.moveaxis(triangles - point, 1, 0)
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    det = np.einsum("ij,ij->i", a, np.cross(b, c))
+    dot = lambda u, v: np.einsum("ij,ij->i", u, v)  # noqa: E731
+    den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb
+    return float(np.arctan2(det, den).sum() / (2 * np.pi))
+
+
+def _stack(meshes: Sequence[trimesh.Trimesh]) -> trimesh.Trimesh:
+    """One mesh of several bodies, each body's vertices and faces as they were."""
+    offsets = np.cumsum([0] + [len(m.vertices) for m in meshes[:-1]])
+    vertices = np.vstack([m.vertices for m in meshes])
+    faces = np.vstack([m.faces + k for m, k in zip(meshes, offsets, strict=True)])
+    return trimesh.Trimesh(vertices, faces, process=False)
+
+
+class _Solid:
+    """One closed surface, prepared once to be hollowed at any number of thicknesses."""
+
+    def __init__(self, surface: trimesh.Trimesh, name: str = "surface"):
+        check_surface(surface, name)
+        self.surface = surface
+        self.name = name
+        self.vertices = np.array(surface.vertices, dtype=np.float64)
+        self.faces = np.array(surface.faces, dtype=np.int64)
+        self.volume = float(surface.volume)
+        self.size = float(np.ptp(self.vertices, axis=0).max())
+        hull = ConvexHull(self.vertices)
+        self.hull_volume = float(hull.volume)
+        self.normals, self.offsets = _planes(hull.equations, self.size)
+        # The hull's inscribed ball bounds every cavity: beyond its radius nothing is
+        # left inside the hull, so certainly nothing inside the surface either.
+        self.center, self.inradius = _chebyshev(self.normals, self.offsets)
+        self.depth = float(_vertex_depth(self.vertices, self.normals, self.offsets).max())
+        self.is_convex = bool(
+            self.depth <= tol.hollow_convex_depth * self.size
+            and self.hull_volume - self.volume <= tol.hollow_convex_volume * self.hull_volume
+        )
+        self._bound = None  # per-face depth bounds, computed when first needed
+        self._exact = {}  # face -> exact depth [m], from a linear programme each
+        self._capsules = None  # edges that get a swept ball (erosion)
+        self._inside = None  # whether the hull's inscribed-ball centre is inside
+        logger.debug(
+            "%s: %d faces, convex=%s (vertex depth %.3g m, hull volume +%.3g %%), "
+            "inradius %.4g m", name, len(self.faces), self.is_convex, self.depth,
+            100 * (self.hull_volume / self.volume - 1), self.inradius,
+        )
+
+    # ---------------------------------------------------------------- convex cavity
+    def _face_depth(self, face: int) -> float:
+        """Deepest point [m] of one face below the hull surface (a small LP, cached)."""
+        if face not in self._exact:
+            tri = self.vertices[self.faces[face]]
+            # max s  s.t.  n_j . (tri^T lam) + s <= d_j,  sum(lam) = 1,  lam >= 0
+            res = linprog(
+                c=[0.0, 0.0, 0.0, -1.0],
+                A_ub=np.column_stack([self.normals @ tri.T, np.ones(len(self.normals))]),
+                b_ub=self.offsets,
+                A_eq=[[1.0, 1.0, 1.0, 0.0]],
+                b_eq=[1.0],
+                bounds=[(0.0, None)] * 3 + [(None, None)],
+                method="highs",
+            )
+            self._exact[face] = float(res.x[3]) if res.status == 0 else np.inf
+        return self._exact[face]
+
+    def _surface_clear_of(self, thickness: float) -> bool:
+        """Whether no face reaches ``thickness`` deep below the hull surface.
+
+        The offset polytope is the set of points at least ``thickness`` deep: if no face
+        reaches it, the surface and the cavity cannot touch and their union is a valid
+        shell (wall between ``thickness - depth`` and ``thickness``).
+        """
+        if self._bound is None:
+            self._bound = _face_depth_bound(self.vertices[self.faces], self.normals,
+                                            self.offsets)
+        suspects = np.flatnonzero(self._bound >= thickness)
+        return all(self._face_depth(int(f)) < thickness for f in suspects)
+
+    def _convex_cavity_points(self, thickness: float) -> np.ndarray | None:
+        """Corners (n, 3) [m] of the hull moved inward by ``thickness``; None if flat."""
+        halfspaces = np.column_stack([self.normals, thickness - self.offsets])
+        try:
+            points = HalfspaceIntersection(halfspaces, self.center).intersections
+            ConvexHull(points)  # a cavity only a rounding error thick fails here
+        except QhullError:
+            if self.inradius - thickness < tol.hollow_flat_cavity * self.size:
+                return None  # a sheet only rounding errors thick: no cavity
+            raise
+        return points
+
+    def _convex_ok(self, thickness: float) -> bool:
+        """Whether the offset hull is a valid cavity: clear of the surface and inside it."""
+        if not self._surface_clear_of(thickness):
+            logger.info("%s: the surface dips %.4g m or more below its hull: eroding instead",
+                        self.name, thickness)
+            return False
+        if self._inside is None:
+            # Clear of the surface, the (convex, connected) cavity is either all inside
+            # or all in a pocket between surface and hull: its centre tells which.
+            triangles = self.vertices[self.faces]
+            self._inside = _winding_number(self.center, triangles) > 0.5
+        return self._inside
+
+    # --------------------------------------------------------------- general cavity
+    def _capsule_edges(self) -> np.ndarray:
+        """Vertex pairs (E, 2) of edges that need a swept ball: concave or unsure ones."""
+        if self._capsules is None:
+            tri = self.vertices[self.faces]
+            cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+            twice_area = np.linalg.norm(cross, axis=1)
+            longest = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
+            # a needle or a point has no trustworthy normal: ball all three of its edges
+            degenerate = twice_area <= tol.hollow_needle_face * longest**2
+            normals = cross / np.where(degenerate, 1.0, twice_area)[:, None]
+            pairs = self.surface.face_adjacency
+            edges = self.surface.face_adjacency_edges
+            # height of face 1's far corner above face 0's plane: > 0 concave, 0 flat;
+            # flat (coplanar) edges are treated as concave, which only costs a capsule
+            far = self.vertices[self.surface.face_adjacency_unshared[:, 1]]
+            rise = np.einsum("ij,ij->i", normals[pairs[:, 0]],
+                             far - self.vertices[edges[:, 0]])
+            concave = (rise > -tol.hollow_flat_edge * self.size) | degenerate[pairs].any(axis=1)
+            ends = self.faces[degenerate]
+            bad_edges = np.concatenate([ends[:, [0, 1]], ends[:, [1, 2]], ends[:, [2, 0]]])
+            both = np.sort(np.vstack([edges[concave], bad_edges]), axis=1)
+            self._capsules = np.unique(both, axis=0)
+        return self._capsules
+
+    def _eroded_cavity(self, thickness: float, segments: int) -> list[trimesh.Trimesh]:
+        """Bodies [m] of the points at least ``thickness`` inside (empty list: none)."""
+        from manifold3d import Error, Manifold, Mesh64, OpType
+
+        solid = Manifold(Mesh64(vert_properties=np.ascontiguousarray(self.vertices),
+                                tri_verts=self.faces.astype(np.uint64)))
+        if solid.status() != Error.NoError:
+            raise MeshError(f"{self.name}: manifold3d rejects the surface ({solid.status()})")
+        tri = self.vertices[self.faces]
+        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+        length = np.linalg.norm(cross, axis=1, keepdims=True)
+        normals = cross / np.where(length > 0, length, 1.0)
+        # one prism per face: every point within `thickness` of the face along its normal
+        # (a degenerate face gives a flat, empty hull; its edges carry capsules instead)
+        shift = thickness * normals[:, None, :]
+        prisms = np.concatenate([tri - shift, tri + shift], axis=1)
+        pieces = [Manifold.hull_points(p) for p in prisms]
+        ball = thickness * _unit_ball(segments)
+        ends = self.vertices[self._capsule_edges()]  # (E, 2, 3)
+        capsules = (ends[:, :, None, :] + ball).reshape(len(ends), -1, 3)
+        pieces += [Manifold.hull_points(c) for c in capsules]
+        cavity = solid - Manifold.batch_boolean(pieces, OpType.Add)
+        floor = tol.hollow_sliver_volume * self.size**3
+        return [_to_trimesh(c) for c in cavity.decompose() if c.volume() > floor]
+
+    # ------------------------------------------------------------------------ both
+    def _solid_at(self, thickness: float) -> bool:
+        return thickness >= self.inradius - tol.hollow_solid * self.size
+
+    def cavity_volume(self, thickness: float, segments: int = BALL_SEGMENTS) -> float:
+        """Volume [m^3] removed at this wall thickness (0 when nothing is left inside)."""
+        if thickness <= 0 or self._solid_at(thickness):
+            return 0.0
+        if self.is_convex:
+            points = self._convex_cavity_points(thickness)
+            if points is None:
+                return 0.0
+            if self._convex_ok(thickness):
+                return float(ConvexHull(points).volume)
+        return sum(float(c.volume) for c in self._eroded_cavity(thickness, segments))
+
+    def cavity(self, thickness: float,
+               segments: int = BALL_SEGMENTS) -> tuple[trimesh.Trimesh | None, str]:
+        """Outward-wound cavity surface [m] at this wall thickness and how it was built:
+        ``"convex"``, ``"erosion"`` (several bodies if the inside splits up), or None and
+        ``"solid"`` when nothing is left inside."""
+        cavity, method = None, "solid"
+        if not self._solid_at(thickness):
+            if self.is_convex:
+                points = self._convex_cavity_points(thickness)
+                if points is not None and self._convex_ok(thickness):
+                    cavity, method = _hull_mesh(points), "convex"
+            if method == "solid":
+                bodies = self._eroded_cavity(thickness, segments)
+                if bodies:
+                    cavity, method = _stack(bodies), "erosion"
+        return cavity, method
