@@ -10,6 +10,7 @@ links, RBE2 seats.
 from __future__ import annotations
 
 import logging
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -92,7 +93,8 @@ class Arm:
 def build_arm(robot: Robot, spec: ArmSpec = ArmSpec(),
               progress: Callable[[str], None] | None = None) -> Arm:
     """The arm model ``spec`` of ``robot`` (flexible links are meshed and reduced once,
-    then read from the cache).
+    then read from the cache).  A robot with placeholder joint stiffness (a URDF import)
+    gets one warning naming those joints.
 
     Examples
     --------
@@ -102,6 +104,13 @@ def build_arm(robot: Robot, spec: ArmSpec = ArmSpec(),
     ('E-model', 6)
     """
     log.info("arm of %s: %s", robot.name, spec)
+    placeholders = [j.name for j in robot.joints if j.model.is_placeholder]
+    if placeholders:  # the arm's answers are only as good as these unmeasured defaults
+        which = (f"joints {', '.join(placeholders)} have" if len(placeholders) > 1
+                 else f"joint {placeholders[0]} has")
+        warnings.warn(f"robot '{robot.name}': {which} placeholder stiffness (not measured); "
+                      "identify it with `flexarm diagnose DATA.csv --robot ROBOT.toml --apply "
+                      "-o NEW.toml`", stacklevel=2)
     if spec.model == "emodel":
         size = robot.options.mesh_size if spec.mesh_size is None else float(spec.mesh_size)
         return Arm(robot, emodel(robot, method=spec.mass, mesh_size=size), spec)

@@ -14,23 +14,28 @@ _MODELS = ("emodel", "cb", "guyan")
 # --- import-urdf -----------------------------------------------------------------------
 def _add_import_urdf(p: argparse.ArgumentParser) -> None:
     p.add_argument("urdf", help="robot.urdf")
-    p.add_argument("-o", "--output", required=True, help="robot.toml to write")
+    p.add_argument("-o", "--output", required=True,
+                   help="robot.toml to write (derived link meshes go to <stem>_meshes/ next "
+                        "to it; published meshes are referenced by relative path)")
     p.add_argument("--meshes", default="collision", choices=["collision", "visual"],
-                   help="which URDF meshes become the link CAD")
+                   help="which URDF geometry becomes the link CAD (STL, OBJ, PLY, DAE)")
     p.add_argument("--total-mass", type=float, default=None, metavar="KG",
                    help="scale the link densities so the robot weighs KG (solid CAD hulls of "
                         "hollow castings are far too heavy otherwise)")
 
 
-@command("import-urdf", "write a robot TOML from a URDF (origins, axes, limits, STL meshes)",
-         _add_import_urdf)
+@command("import-urdf", "write a robot TOML from a URDF (origins, axes, limits, meshes, tool "
+         "frame; placeholder joint stiffness)", _add_import_urdf)
 def _run_import_urdf(args) -> int:
     from ..robot.formats import write
-    from ..studies.import_urdf import import_urdf
+    from ..studies.import_urdf import derived_meshes_dir, import_urdf
 
-    imported = import_urdf(args.urdf, args.meshes, args.total_mass)
+    imported = import_urdf(args.urdf, args.meshes, args.total_mass,
+                           derived_dir=derived_meshes_dir(args.output))
     write(args.output, imported.robot)
     out(f"wrote {args.output}: {imported.summary()}")
+    for line in imported.report(args.output):
+        out(line)
     return 0
 
 

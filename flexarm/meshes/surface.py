@@ -1,4 +1,9 @@
-"""Read a CAD triangle surface (STL/OBJ/PLY), scale it to metres, repair and check it."""
+"""Read a CAD triangle surface (STL/OBJ/PLY/DAE), scale it to metres, repair and check it.
+
+A COLLADA (``.dae``) file is read with its scene transforms applied; its ``<unit>`` and
+``<up_axis>`` are not (the caller's ``units`` say what a coordinate is, as for every other
+format; robot descriptions pass the factor they resolved).  It needs ``pycollada``.
+"""
 
 from __future__ import annotations
 
@@ -19,7 +24,7 @@ __all__ = ["load_surface", "SURFACE_EXTENSIONS"]
 logger = logging.getLogger(__name__)
 
 #: Surface file types :func:`load_surface` reads.
-SURFACE_EXTENSIONS = (".stl", ".obj", ".ply")
+SURFACE_EXTENSIONS = (".stl", ".obj", ".ply", ".dae")
 _SUPPORTED = "supported: " + ", ".join(SURFACE_EXTENSIONS)
 
 
@@ -41,6 +46,8 @@ def _signature_problem(path: Path, ext: str) -> str | None:
         return "neither a binary STL of consistent length nor an ASCII STL ('solid ...')"
     if ext == ".ply":
         return None if head.startswith(b"ply") else "no 'ply' header"
+    if ext == ".dae" and b"<collada" not in head.lower():
+        return "no '<COLLADA' element in its first 4096 bytes"
     if b"\x00" in head:
         return "binary bytes in a text format"
     try:
@@ -97,7 +104,7 @@ def load_surface(path: PathType, units: str = "m", repair: bool = True) -> trime
     Parameters
     ----------
     path : path-like
-        ``.stl``, ``.obj`` or ``.ply`` file.
+        ``.stl``, ``.obj``, ``.ply`` or ``.dae`` file.
     units : {"m", "mm", "cm", "in"}
         Length unit of the file's coordinates.
     repair : bool

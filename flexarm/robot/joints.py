@@ -10,16 +10,19 @@ independent coordinates ``delta`` carrying the diagonal spring.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..fe.typing import ArrayLike, FloatArray
 
-__all__ = ["JointModel", "joint_basis", "DOF_NAMES"]
+__all__ = ["JointModel", "joint_basis", "DOF_NAMES", "SOURCES"]
 
 #: Names of the six relative joint DOFs, in the order of :attr:`JointModel.stiffness`.
 DOF_NAMES = ("axial", "radial1", "radial2", "torsion", "tilt1", "tilt2")
+#: Where a joint model's stiffness comes from: given (a datasheet, a measurement, an
+#: identification) or a placeholder (a default that nobody measured, e.g. a URDF import).
+SOURCES = ("given", "placeholder")
 
 
 @dataclass(frozen=True)
@@ -46,12 +49,18 @@ class JointModel:
     rayleigh : (2,) float or None
         ``(alpha [1/s], beta [s])``: if given, the joint's ratio at angular frequency
         omega is ``alpha / (2 omega) + beta omega / 2`` instead of ``damping_ratio``.
+    source : {"given", "placeholder"}
+        Where the stiffness values come from (:data:`SOURCES`); ``"placeholder"`` marks
+        defaults nobody measured (a URDF has no joint stiffness).  It does not take part
+        in comparisons: two models with the same springs are equal.
 
     Examples
     --------
     >>> jm = JointModel(torsion=5e5, tilt=2e7)
     >>> jm.free_dofs.tolist(), jm.free_stiffness.tolist()
     ([3, 4, 5], [500000.0, 20000000.0, 20000000.0])
+    >>> JointModel(torsion=1e6, source="placeholder").is_placeholder
+    True
     """
 
     torsion: float
@@ -61,8 +70,12 @@ class JointModel:
     damping_ratio: float = 0.02
     rayleigh: tuple[float, float] | None = None
     tilt2: float | None = None
+    source: str = field(default="given", compare=False)
 
     def __post_init__(self) -> None:
+        if self.source not in SOURCES:
+            raise ValueError(f"joint stiffness source must be one of {', '.join(SOURCES)}, "
+                             f"got '{self.source}'")
         for name in ("torsion", "tilt", "radial", "axial", "tilt_2"):
             v = float(getattr(self, name))
             if not v > 0:
@@ -78,6 +91,11 @@ class JointModel:
         if np.isfinite(self.tilt) != np.isfinite(self.tilt_2):
             raise ValueError(f"joint tilt and tilt2 must both be finite or both rigid, got "
                              f"{self.tilt} and {self.tilt2}")
+
+    @property
+    def is_placeholder(self) -> bool:
+        """True when the stiffness values are unmeasured defaults (``source="placeholder"``)."""
+        return self.source == "placeholder"
 
     @property
     def tilt_2(self) -> float:

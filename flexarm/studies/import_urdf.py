@@ -1,35 +1,92 @@
 """A URDF robot made ready for flexarm: its description with densities scaled to the
-datasheet mass (the CAD of a URDF is a solid hull of hollow castings)."""
+datasheet mass (the CAD of a URDF is a solid hull of hollow castings), derived link
+meshes next to the robot file, and a report of what came in and what is a placeholder."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
 
 from ..assembly.emodel import total_mass, with_total_mass
 from ..fe.typing import PathType
 from ..robot.description import Robot
 from ..robot.formats import urdf
 
-__all__ = ["ImportedRobot", "import_urdf"]
+__all__ = ["ImportedRobot", "import_urdf", "derived_meshes_dir"]
 
 
 @dataclass(frozen=True, eq=False)
 class ImportedRobot:
     """The imported ``robot``, the mass of its solid CAD as given [kg] and its mass after
-    any density scaling [kg] (links and lumped masses, surface integrals)."""
+    any density scaling [kg] (links and lumped masses, surface integrals), the URDF frame
+    that set the tool (None: no ``tool0``/``flange``), the fixed links ``merged`` into
+    each moving link and the ``derived`` meshes written per link."""
 
     robot: Robot
     solid_mass: float
     mass: float
+    tool_frame: str | None = None
+    merged: dict = field(default_factory=dict)
+    derived: dict = field(default_factory=dict)
+
+    @property
+    def placeholder_joints(self) -> tuple[str, ...]:
+        """Joints whose stiffness is an unmeasured default."""
+        return tuple(j.name for j in self.robot.joints if j.model.is_placeholder)
 
     def summary(self) -> str:
         """``N links, M joints, X kg (solid CAD: Y kg)``."""
-        return (f"{len(self.robot.links)} links, {len(self.robot.joints)} joints, "
+        n = len(self.robot.joints)
+        return (f"{len(self.robot.links)} links, {n} joint{'s' if n > 1 else ''}, "
                 f"{self.mass:.1f} kg (solid CAD: {self.solid_mass:.1f} kg)")
 
+    def report(self, robot_file: PathType = "ROBOT.toml") -> list[str]:
+        """Lines on the links, joints, tool frame and placeholder stiffness (the hint names
+        ``robot_file``, the file the robot is written to)."""
+        links = []
+        for lk in self.robot.links:
+            extra = self.merged.get(lk.name, ())
+            links.append(lk.name + (f" (+ {', '.join(extra)})" if extra else ""))
+        n_derived = len(self.derived)
+        n_published = sum(lk.mesh is not None for lk in self.robot.links) - n_derived
+        meshes = f"{n_published} as published, {n_derived} derived"
+        if n_derived:
+            meshes += f" in {Path(next(iter(self.derived.values()))).parent}"
+        lines = [f"links: {', '.join(links)}; meshes: {meshes}",
+                 f"joints: {', '.join(self.robot.joint_names)}", self._tool_line()]
+        if self.placeholder_joints:
+            lines.append(
+                f"placeholder stiffness (a URDF has none) on {', '.join(self.placeholder_joints)}"
+                f": identify it from measurements with `flexarm diagnose MEASURED.csv --robot "
+                f"{robot_file} --apply -o IDENTIFIED.toml`")
+        return lines
 
-def import_urdf(path: PathType, meshes: str = "collision",
-                mass_kg: float | None = None) -> ImportedRobot:
+    def _tool_line(self) -> str:
+        tool = self.robot.tool
+        on = tool.link or self.robot.links[-1].name
+        if self.tool_frame is None:
+            return f"tool: no tool0 or flange frame in the URDF (TCP at the {on} frame)"
+        xyz = ", ".join(f"{v:.4g}" for v in tool.xyz)
+        rpy = ", ".join(f"{math.degrees(v):.4g}" for v in tool.rpy)
+        return f"tool: {self.tool_frame} on {on}, xyz [{xyz}] m, rpy [{rpy}] deg"
+
+
+def derived_meshes_dir(robot_file: PathType) -> Path:
+    """The folder next to a robot TOML for its derived link meshes: ``DIR/<stem>_meshes``
+    (so the TOML and its meshes move together).
+
+    Examples
+    --------
+    >>> derived_meshes_dir("out/irb.toml").as_posix()
+    'out/irb_meshes'
+    """
+    p = Path(robot_file)
+    return p.parent / f"{p.stem}_meshes"
+
+
+def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None = None,
+                derived_dir: PathType | None = None) -> ImportedRobot:
     """Read a URDF and, given ``mass_kg`` [kg], scale every link density by one factor so
     the robot weighs that much (stiffness is kept).
 
@@ -38,12 +95,41 @@ def import_urdf(path: PathType, meshes: str = "collision",
     path : path-like
         The ``.urdf`` file (meshes resolved next to it or through ``package://``).
     meshes : {"collision", "visual"}
-        Which URDF meshes become the link CAD.
+        Which URDF geometry becomes the link CAD.
     mass_kg : float, optional
         The robot's real mass [kg] (datasheet).
+    derived_dir : path-like, optional
+        Folder for link meshes the import derives (merged elements, origins, scales,
+        merged fixed links); default the package cache.  Pass
+        :func:`derived_meshes_dir` of the robot TOML to keep the TOML relocatable.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "r.urdf").write_text(
+    ...     '<robot name="r"><link name="a"><inertial><mass value="5"/></inertial></link>'
+    ...     '<link name="b"><inertial><mass value="2"/></inertial></link>'
+    ...     '<joint name="j1" type="continuous"><parent link="a"/><child link="b"/>'
+    ...     '</joint></robot>')
+    >>> imported = import_urdf(folder / "r.urdf")
+    >>> imported.summary(), imported.placeholder_joints
+    ('2 links, 1 joint, 7.0 kg (solid CAD: 7.0 kg)', ('j1',))
     """
-    robot = urdf.read(path, meshes=meshes)
+    imported = urdf.load(path, meshes=meshes, derived_dir=derived_dir)
+    robot = _seat_regions(imported.robot)
     solid = total_mass(robot, "surface")
     if mass_kg is not None:
         robot = with_total_mass(robot, mass_kg)
-    return ImportedRobot(robot, solid, total_mass(robot, "surface"))
+    return ImportedRobot(robot, solid, total_mass(robot, "surface"), imported.tool_frame,
+                         imported.merged, imported.derived)
+
+
+def _seat_regions(robot: Robot) -> Robot:
+    """The seat-regions step of an import.
+
+    The URDF reader leaves every link's ``regions`` empty: a URDF says where the joints
+    are, not which CAD surfaces carry them.  The seats found on each link's CAD are put
+    in here; until then the robot passes through unchanged.
+    """
+    return robot

@@ -24,25 +24,40 @@ from ..robot.effects import NONLINEAR
 
 __all__ = ["robot_with_effects", "write_history"]
 
-def _fitted_joint(joint, fitted):
+
+#: Effects whose fit identifies a joint's torsion (what an import leaves as a placeholder).
+_JOINT_FITS = ("stiffness",)
+
+
+def _fitted_joint(joint, fitted, identified: bool = False):
     """The robot joint carrying the fitted E-model joint ``fitted``.
 
     When the robot keeps a separate equivalent E-model joint (bearing in series with
     link bending), the fit belongs there; the physical joint takes the fitted gear
-    torsion, which link bending does not change.
+    torsion, which link bending does not change.  An ``identified`` joint (a fit wrote
+    its springs) is no longer a placeholder.
     """
+    model = fitted if joint.emodel is None else replace(joint.model, torsion=fitted.torsion)
+    if identified:
+        fitted, model = replace(fitted, source="given"), replace(model, source="given")
     if joint.emodel is None:
-        return replace(joint, model=fitted)
-    return replace(joint, emodel=fitted, model=replace(joint.model, torsion=fitted.torsion))
+        return replace(joint, model=model)
+    return replace(joint, emodel=fitted, model=model)
 
 
 def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> Robot:
     """``robot`` with the linear ``effects`` built into its springs and the nonlinear ones
-    (resolved to their SI model form against ``arm``) as its ``effects``."""
+    (resolved to their SI model form against ``arm``) as its ``effects``.
+
+    A joint whose torsion a ``stiffness`` effect fitted loses its placeholder
+    mark (:attr:`~flexarm.robot.joints.JointModel.source` becomes ``"given"``).
+    """
     linear = [e for e in effects if e.kind not in NONLINEAR]
     nonlinear = tuple(resolve(e, arm) for e in effects if e.kind in NONLINEAR)
     new, _ = apply_effects(arm, linear)
-    joints = tuple(_fitted_joint(j, m) for j, m in zip(robot.joints, new.joints, strict=True))
+    identified = {e.joint for e in linear if e.kind in _JOINT_FITS and e.joint is not None}
+    joints = tuple(_fitted_joint(j, m, i in identified)
+                   for i, (j, m) in enumerate(zip(robot.joints, new.joints, strict=True)))
     base = robot.base
     if new.foundation is not None:
         base = BaseSupport("spring", tuple(map(tuple, np.asarray(new.foundation).tolist())),

@@ -13,7 +13,7 @@ from flexarm.fe.errors import MeshError, ReadError
 from flexarm.meshes import load_surface, write_surface
 from flexarm.meshes.primitives import bar_surface, hollow_link_surface
 
-SUPPORTED = re.escape("(supported: .stl, .obj, .ply)")
+SUPPORTED = re.escape("(supported: .stl, .obj, .ply, .dae)")
 
 
 def _write(path, mesh):
@@ -100,6 +100,21 @@ def test_sealed_void_is_not_flipped(tmp_path):
     sealed = hollow_link_surface(hand_hole_radius=0.0, segments=24)
     path = _write(tmp_path / "sealed.stl", sealed)
     assert load_surface(path).volume == pytest.approx(sealed.volume, rel=1e-6)
+
+
+def test_collada_is_read_like_the_others(tmp_path):
+    """A DAE (COLLADA, as URDF visuals are published) reads with the caller's units; its
+    triangles merge into one closed surface."""
+    path = tmp_path / "cube.dae"
+    trimesh.creation.box((20.0, 30.0, 40.0)).export(path)
+    surface = load_surface(path, units="mm")
+    np.testing.assert_allclose(surface.extents, [0.02, 0.03, 0.04], rtol=1e-6)
+    assert surface.volume == pytest.approx(2.4e-5, rel=1e-6) and surface.is_watertight
+    garbage = tmp_path / "garbage.dae"
+    garbage.write_text("<mesh>not collada</mesh>")
+    with pytest.raises(ReadError, match=f"garbage.dae: cannot read it as .dae: no '<COLLADA' "
+                                        f"element .*{SUPPORTED}$"):
+        load_surface(garbage)
 
 
 def test_missing_file(tmp_path):

@@ -117,3 +117,13 @@ def test_spring_seen_at_the_joint(jm):
     Ct = tcp_compliance(arm, [0.7])
     np.testing.assert_allclose(E[:, [0, 3]].T @ Ct @ E[:, [0, 3]],
                                E[:, [0, 3]].T @ expected @ E[:, [0, 3]], rtol=1e-12, atol=1e-20)
+
+
+def test_stiffness_source_is_a_mark_not_a_spring():
+    """``source`` says where the values come from; it never changes what the joint is."""
+    given, guess = JointModel(torsion=1e6), JointModel(torsion=1e6, source="placeholder")
+    assert given.source == "given" and not given.is_placeholder and guess.is_placeholder
+    assert given == guess and np.array_equal(given.stiffness, guess.stiffness)
+    with pytest.raises(ValueError, match="^joint stiffness source must be one of given, "
+                                         "placeholder, got 'guessed'$"):
+        JointModel(torsion=1e6, source="guessed")

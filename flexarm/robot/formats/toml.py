@@ -1,7 +1,9 @@
 """Robot description TOML (DESIGN §5): ``read(path) -> Robot``, ``write(path, robot)``.
 
 Angles are degrees in the file (keys ending ``_deg``), radians inside.  Mesh paths
-are relative to the TOML file.  Rigid joint directions are written ``"rigid"``.
+are relative to the TOML file.  Rigid joint directions are written ``"rigid"``;
+``placeholder = true`` in ``[joints.model]`` marks unmeasured default stiffness (a URDF
+import; omitted when false).
 Nonlinear joint laws live in an optional ``[nonlinear.<joint name>]`` table (keys:
 ``backlash_rad``; ``hardening_extra_rad_per_Nm`` + ``hardening_threshold_Nm``;
 ``hysteresis_lost_rad`` + ``hysteresis_radius_Nm``), read into ``Robot.effects``.
@@ -37,7 +39,8 @@ from ..joints import JointModel
 __all__ = ["read", "write", "dumps", "FORMAT_VERSION"]
 
 FORMAT_VERSION = 1
-_MODEL_KEYS = {"torsion", "tilt", "tilt2", "radial", "axial", "damping_ratio", "rayleigh"}
+_MODEL_KEYS = {"torsion", "tilt", "tilt2", "radial", "axial", "damping_ratio", "rayleigh",
+               "placeholder"}
 _JOINT_KEYS = {"name", "parent", "child", "origin", "rpy_deg", "axis", "limits_deg",
                "gear_ratio", "model", "emodel"}
 _LINK_KEYS = {"name", "mesh", "units", "material", "lumped", "regions"}
@@ -144,6 +147,9 @@ def _joint_model(m: dict, key: str) -> JointModel:
     _check_keys(m, _MODEL_KEYS, key)
     if "torsion" not in m:
         raise ValueError(f"{key}.torsion is required [N m/rad]")
+    placeholder = m.get("placeholder", False)
+    if not isinstance(placeholder, bool):
+        raise ValueError(f"{key}.placeholder must be true or false, got {placeholder!r}")
     return JointModel(
         torsion=_stiff(m["torsion"], f"{key}.torsion"),
         tilt=_stiff(m.get("tilt", "rigid"), f"{key}.tilt"),
@@ -152,6 +158,7 @@ def _joint_model(m: dict, key: str) -> JointModel:
         damping_ratio=float(m.get("damping_ratio", 0.02)),
         rayleigh=tuple(m["rayleigh"]) if "rayleigh" in m else None,
         tilt2=_stiff(m["tilt2"], f"{key}.tilt2") if "tilt2" in m else None,
+        source="placeholder" if placeholder else "given",
     )
 
 
@@ -265,6 +272,8 @@ def _model_dict(m: JointModel) -> dict:
         model["tilt2"] = _num(m.tilt2)
     if m.rayleigh is not None:
         model["rayleigh"] = list(m.rayleigh)
+    if m.is_placeholder:  # omitted when false: files with given stiffness stay as they were
+        model["placeholder"] = True
     return model
 
 

@@ -1,11 +1,32 @@
-"""URDF import: joint origins, axes, limits and link meshes -> :class:`Robot`.
+"""URDF import: a published robot description -> :class:`Robot`.
 
-Only revolute (and continuous) joints move; links hanging off fixed joints
-without a mesh (``tool0``, ``flange``) are dropped.  Mesh filenames may be
-relative to the URDF or ``package://name/...`` (resolved against the folder
-holding that package's ``package.xml``, searched upwards from the URDF).
-Interface regions default to cylinders around each joint origin; a warning
-names every region that catches too few mesh vertices.
+What becomes what:
+
+* **Moving links.**  The root and every child of a revolute or continuous joint is a
+  :class:`Link`.  Its CAD is its ``<collision>`` (or ``<visual>``) elements: one mesh at
+  the link frame is used as published (STL, OBJ, PLY, DAE; a uniform ``scale`` becomes
+  the units); anything else is merged into one derived STL in the link frame
+  (:mod:`~flexarm.robot.formats.urdf_meshes`).  A link with no geometry of that kind
+  takes the other kind (a warning names it).
+* **Fixed joints** are merged: the child link's geometry and ``<inertial>`` join the
+  moving link it is fixed to, placed by the fixed joint's origin.  A fixed child without
+  geometry or inertial is a pure frame; ``tool0`` (else ``flange``) sets
+  :attr:`Robot.tool` on its moving link.
+* **Mass.**  A link's CAD gets the material's density; a link (or merged fixed child)
+  without geometry contributes its ``<inertial>`` as a :class:`LumpedMass`.  The
+  ``<inertial>`` of a link that has geometry is not used (its mass is the CAD's).  A
+  moving link with neither is an error.
+* **Joints** keep their origin (in the parent's link frame, fixed offsets folded in),
+  axis and limits (continuous: +-360 deg); a ``<mimic>`` is not modelled (a warning
+  names the joint).  A URDF carries no stiffness: every joint gets
+  the default gear torsion :data:`DEFAULT_TORSION` and rigid bearings, marked
+  ``source="placeholder"`` until identified (``flexarm diagnose --apply``).
+* **Regions** (interface seats) are left empty: the link's seats are found from its CAD
+  by the caller.
+
+Anything that cannot be imported faithfully (prismatic, planar or floating joints,
+closed loops, missing links or mesh files, duplicate names) is one error naming the file
+and the joint or link; nothing is dropped silently.
 """
 
 from __future__ import annotations
@@ -14,179 +35,247 @@ import logging
 import math
 import warnings
 import xml.etree.ElementTree as ET
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ...fe.errors import ReadError
 from ...fe.material import MATERIALS
-from ...fe.units import LENGTH_UNITS
-from ..description import Joint, Link, Region, Robot, Tool
+from ..description import Joint, Link, LumpedMass, Robot, Tool
 from ..joints import JointModel
-from ..kinematics import rpy_matrix
+from .urdf_meshes import Piece, merged_mesh, published, write_derived
+from .urdf_tree import UrdfTree, parse_tree, xyz_rpy
 
-__all__ = ["read", "DEFAULT_TORSION", "MIN_REGION_NODES"]
+__all__ = ["read", "load", "UrdfImport", "DEFAULT_TORSION", "TOOL_FRAMES", "default_derived_dir"]
 
 log = logging.getLogger(__name__)
 
-#: Default gear torsion stiffness [N m/rad] of the main axes (1-3) and the wrist.
+#: Placeholder gear torsion stiffness [N m/rad] of the main axes (1-3) and the wrist.
 DEFAULT_TORSION = (1.0e6, 2.0e5)
-#: A default region catching fewer mesh vertices than this gets a warning.
-MIN_REGION_NODES = 8
-_REGION_R, _REGION_HALF = 0.15, 0.08  # default seat cylinder [m]
+#: Frames that set the tool, in order of preference.
+TOOL_FRAMES = ("tool0", "flange")
+_MESH_KINDS = ("collision", "visual")
+_CONTINUOUS = 2 * math.pi  # limits [rad] of a continuous joint (and of one without <limit>)
 
 
-def _floats(text: str | None, n: int, default) -> np.ndarray:
-    if text is None:
-        return np.array(default, dtype=float)
-    vals = [float(v) for v in text.split()]
-    if len(vals) != n:
-        raise ValueError(f"expected {n} numbers, got '{text}'")
-    return np.array(vals)
+def default_derived_dir() -> Path:
+    """Where derived link meshes go unless the caller says: the package cache's
+    ``urdf-meshes`` folder."""
+    from ...fe.cache import cache_root
+
+    return cache_root() / "urdf-meshes"
 
 
-def _package_root(urdf: Path, package: str) -> Path:
-    for folder in [urdf.parent, *urdf.parents]:
-        px = folder / "package.xml"
-        if px.is_file():
-            name = ET.parse(px).getroot().findtext("name", "").strip()
-            if name == package or folder.name == package:
-                return folder
-    raise ValueError(f"package://{package}: no package.xml named '{package}' above {urdf}")
+@dataclass(frozen=True, eq=False)
+class UrdfImport:
+    """A URDF read as a :class:`Robot` plus what the import did.
+
+    ``tool_frame`` is the URDF frame that set the tool (``"tool0"``, ``"flange"`` or
+    None); ``merged`` maps a moving link to the fixed links merged into it (frames
+    included); ``derived`` maps a link to the derived STL written for it (links absent
+    use their published mesh or have none).
+    """
+
+    robot: Robot
+    tool_frame: str | None
+    merged: dict
+    derived: dict
+
+    @property
+    def placeholder_joints(self) -> tuple[str, ...]:
+        """Joints whose stiffness is a placeholder (all of them, for a URDF)."""
+        return tuple(j.name for j in self.robot.joints if j.model.is_placeholder)
 
 
-def _mesh_path(urdf: Path, filename: str) -> Path:
-    if filename.startswith("package://"):
-        pkg, _, rel = filename[len("package://"):].partition("/")
-        return _package_root(urdf, pkg) / rel
-    if filename.startswith("file://"):
-        return Path(filename[len("file://"):])
-    return (urdf.parent / filename).resolve()
-
-
-def _link_mesh(urdf: Path, el, kind: str, name: str) -> tuple[Path | None, str]:
-    """Mesh of a link (STL only), preferring ``kind``; (path, units)."""
-    order = [kind, "visual" if kind == "collision" else "collision"]
-    for k in order:
-        m = el.find(f"{k}/geometry/mesh")
-        if m is None:
-            continue
-        path = _mesh_path(urdf, m.get("filename", ""))
-        scale = _floats(m.get("scale"), 3, [1, 1, 1])
-        if path.suffix.lower() != ".stl":
-            warnings.warn(f"link '{name}': {k} mesh {path.name} is not STL; skipped",
-                          stacklevel=3)
-            continue
-        if not np.allclose(scale, scale[0]):
-            raise ValueError(f"link '{name}': non-uniform mesh scale {scale.tolist()}")
-        units = {1.0: "m", 1e-3: "mm", 1e-2: "cm"}.get(float(scale[0]))
-        if units is None:
-            raise ValueError(f"link '{name}': unsupported mesh scale {scale[0]}")
-        if k != kind:
-            warnings.warn(f"link '{name}': no STL {kind} mesh, using the {k} one", stacklevel=3)
-        return path, units
-    return None, "m"
-
-
-def _count_in(region: Region, mesh: Path | None, units: str) -> int:
-    if mesh is None:
-        return 0
-    import trimesh
-
-    v = np.asarray(trimesh.load(mesh, force="mesh").vertices) * LENGTH_UNITS[units]
-    return int(region.contains(v).sum())
-
-
-def read(path, meshes: str = "collision", material: str = "cast_iron") -> Robot:
-    """Read a URDF as a :class:`Robot` (default joint models, regions, material).
+def load(path, meshes: str = "collision", material: str = "cast_iron",
+         derived_dir=None) -> UrdfImport:
+    """Read a URDF as an :class:`UrdfImport` (the robot and what the import did).
 
     Parameters
     ----------
     path : path-like
+        The ``.urdf`` file.
     meshes : {"collision", "visual"}
-        Which link meshes become the CAD (STL only; the other kind is a fallback).
+        Which geometry elements become the link CAD (a link without them takes the other).
     material : str
-        Material name for every link.
+        Material name of every link (:data:`~flexarm.fe.material.MATERIALS`).
+    derived_dir : path-like, optional
+        Folder for derived link meshes (default :func:`default_derived_dir`).
+
+    Raises
+    ------
+    ReadError
+        One line naming the file and the joint or link that cannot be imported.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "r.urdf").write_text(
+    ...     '<robot name="r"><link name="a"><inertial><mass value="5"/></inertial></link>'
+    ...     '<link name="b"><inertial><origin xyz="0.5 0 0"/><mass value="2"/></inertial>'
+    ...     '</link><link name="tool0"/><joint name="j1" type="revolute"><parent link="a"/>'
+    ...     '<child link="b"/><axis xyz="0 0 1"/><limit lower="-1" upper="1"/></joint>'
+    ...     '<joint name="f" type="fixed"><origin xyz="0.6 0 0"/><parent link="b"/>'
+    ...     '<child link="tool0"/></joint></robot>')
+    >>> imp = load(folder / "r.urdf")
+    >>> imp.robot.links[1].lumped[0].mass, imp.tool_frame, imp.robot.tool.xyz
+    (2.0, 'tool0', (0.6, 0.0, 0.0))
+    >>> imp.placeholder_joints
+    ('j1',)
     """
-    path = Path(path)
-    if meshes not in ("collision", "visual"):
+    imported, notes = _read(Path(path), meshes, material, derived_dir)
+    for note in notes:
+        warnings.warn(note, stacklevel=2)
+    return imported
+
+
+def read(path, meshes: str = "collision", material: str = "cast_iron",
+         derived_dir=None) -> Robot:
+    """Read a URDF as a :class:`Robot`; see :func:`load` (this is its ``robot``).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (folder / "r.urdf").write_text(
+    ...     '<robot name="r"><link name="a"><inertial><mass value="5"/></inertial></link>'
+    ...     '<link name="b"><inertial><mass value="2"/></inertial></link>'
+    ...     '<joint name="j1" type="continuous"><parent link="a"/><child link="b"/>'
+    ...     '</joint></robot>')
+    >>> read(folder / "r.urdf").joint_names
+    ('j1',)
+    """
+    imported, notes = _read(Path(path), meshes, material, derived_dir)
+    for note in notes:
+        warnings.warn(note, stacklevel=2)
+    return imported.robot
+
+
+def _read(path: Path, meshes: str, material: str, derived_dir) -> tuple[UrdfImport, list[str]]:
+    """The import and its warnings (each naming the file and the link)."""
+    if meshes not in _MESH_KINDS:
         raise ValueError(f"meshes must be collision|visual, got '{meshes}'")
+    if material not in MATERIALS:
+        raise ValueError(f"unknown material '{material}' (known: {'|'.join(MATERIALS)})")
+    folder = default_derived_dir() if derived_dir is None else Path(derived_dir)
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError as exc:
         raise ReadError(f"{path}: {exc}") from None
+    notes: list[str] = []
     try:
-        return _robot(path, root, meshes, material)
+        imported = _import(path, parse_tree(root), meshes, material, folder, notes)
     except ValueError as exc:
         raise ReadError(f"{path}: {exc}") from None
+    return imported, [f"{path.name}: {n}" for n in notes]
 
 
-def _robot(path: Path, root, meshes: str, material: str) -> Robot:
-    links = {el.get("name"): el for el in root.findall("link")}
-    joints = root.findall("joint")
-    children = {j.find("child").get("link") for j in joints}
-    roots = [n for n in links if n not in children]
-    if len(roots) != 1:
-        raise ValueError(f"expected one root link, found {roots}")
-    # walk the tree from the root: movable joints in depth-first order
-    by_parent: dict[str, list] = {}
-    for j in joints:
-        by_parent.setdefault(j.find("parent").get("link"), []).append(j)
-    order, stack = [], [roots[0]]
-    while stack:
-        name = stack.pop()
-        for j in reversed(by_parent.get(name, [])):
-            order.append(j)
-            stack.append(j.find("child").get("link"))
-    movable = [j for j in order if j.get("type") in ("revolute", "continuous")]
-    if not movable:
-        raise ValueError("no revolute joints")
-    for j in order:
-        if j.get("type") not in ("revolute", "continuous", "fixed"):
-            raise ValueError(f"joint '{j.get('name')}': type '{j.get('type')}' not supported")
-        if j.get("type") == "fixed":
-            child = j.find("child").get("link")
-            el = links[child]
-            if el.find("collision") is not None or el.find("visual") is not None:
-                raise ValueError(f"fixed joint '{j.get('name')}' carries link '{child}' with "
-                                 "geometry; merging fixed links is not supported")
-    link_names = [roots[0]] + [j.find("child").get("link") for j in movable]
-    mat = MATERIALS[material]
-    mesh_of = {n: _link_mesh(path, links[n], meshes, n) for n in link_names}
-    regions: dict[str, dict] = {n: {} for n in link_names}
-    out_joints = []
-    for k, j in enumerate(movable):
-        name = j.get("name")
-        origin = j.find("origin")
-        xyz = _floats(None if origin is None else origin.get("xyz"), 3, [0, 0, 0])
-        rpy = _floats(None if origin is None else origin.get("rpy"), 3, [0, 0, 0])
-        axis_el = j.find("axis")
-        axis = _floats(None if axis_el is None else axis_el.get("xyz"), 3, [1, 0, 0])
-        axis = axis / np.linalg.norm(axis)
-        lim = j.find("limit")
-        if j.get("type") == "continuous" or lim is None:
-            lo, hi = -2 * math.pi, 2 * math.pi
+def _bodies(tree: UrdfTree) -> tuple[dict[str, str], dict[str, np.ndarray]]:
+    """The moving link every URDF link belongs to and its frame (4, 4) in that link."""
+    body_of, T = {tree.root: tree.root}, {tree.root: np.eye(4)}
+    for j in tree.joints:  # parents come first
+        if j.moves:
+            body_of[j.child], T[j.child] = j.child, np.eye(4)
         else:
-            lo, hi = float(lim.get("lower", -math.pi)), float(lim.get("upper", math.pi))
-        parent, child = j.find("parent").get("link"), j.find("child").get("link")
-        torsion = DEFAULT_TORSION[0] if k < 3 else DEFAULT_TORSION[1]
-        out_joints.append(Joint(name, parent, child, tuple(xyz), tuple(axis), lo, hi,
-                                JointModel(torsion=torsion), tuple(rpy)))
-        axis_parent = rpy_matrix(rpy) @ axis
-        for link, centre, ax in ((parent, xyz, axis_parent), (child, np.zeros(3), axis)):
-            reg = Region(tuple(float(c) for c in centre), tuple(float(a) for a in ax), 0.0,
-                         _REGION_R, _REGION_HALF)
-            n_in = _count_in(reg, *mesh_of[link])
-            if n_in < MIN_REGION_NODES:
-                warnings.warn(f"link '{link}': default region of {name} catches only {n_in} "
-                              f"mesh vertices (< {MIN_REGION_NODES})", stacklevel=3)
-            regions[link][name] = reg
-    out_links = tuple(Link(n, mesh_of[n][0], mat, mesh_of[n][1], (), regions[n])
-                      for n in link_names)
-    poses = {}
-    zero = np.zeros(len(out_joints))
-    if all(jt.lower <= 0 <= jt.upper for jt in out_joints):
-        poses["home"] = zero.tolist()
-    log.info("URDF %s: %d links, %d joints", path.name, len(out_links), len(out_joints))
-    return Robot(root.get("name", path.stem), out_links, tuple(out_joints), tool=Tool(),
-                 poses=poses, source=path.resolve())
+            body_of[j.child], T[j.child] = body_of[j.parent], T[j.parent] @ j.origin
+    return body_of, T
+
+
+def _import(path: Path, tree: UrdfTree, meshes: str, material: str, folder: Path,
+            notes: list[str]) -> UrdfImport:
+    body_of, T = _bodies(tree)
+    moving = [j for j in tree.joints if j.moves]
+    if not moving:
+        raise ValueError("no revolute or continuous joints (nothing moves)")
+    names = [tree.root] + [j.child for j in moving]
+    members = {b: [n for n in tree.links if body_of[n] == b] for b in names}
+    # members in walk order: the moving link first, then its fixed children as walked
+    walk = [tree.root] + [j.child for j in tree.joints]
+    members = {b: sorted(m, key=walk.index) for b, m in members.items()}
+    links, derived = [], {}
+    for b in names:
+        link, mesh_file = _link(path, tree, b, members[b], T, meshes, material, folder, notes)
+        links.append(link)
+        if mesh_file is not None:
+            derived[b] = mesh_file
+    joints = []
+    for k, j in enumerate(moving):
+        xyz, rpy = xyz_rpy(T[j.parent] @ j.origin)
+        lo, hi = (-_CONTINUOUS, _CONTINUOUS) if j.lower is None else (j.lower, j.upper)
+        if not lo < hi:
+            raise ValueError(f"joint '{j.name}': limit lower={lo:g} must be below "
+                             f"upper={hi:g} rad")
+        if j.mimic is not None:
+            notes.append(f"joint '{j.name}': <mimic joint=\"{j.mimic}\"> not modelled "
+                         "(it turns on its own)")
+        model = JointModel(torsion=DEFAULT_TORSION[0] if k < 3 else DEFAULT_TORSION[1],
+                           source="placeholder")
+        joints.append(Joint(j.name, body_of[j.parent], j.child, xyz,
+                            tuple(float(a) for a in j.axis), lo, hi, model, rpy))
+    tool_frame, tool = _tool(tree, body_of, T)
+    poses = {"home": [0.0] * len(joints)} if all(j.lower <= 0 <= j.upper
+                                                   for j in joints) else {}
+    robot = Robot(tree.name, tuple(links), tuple(joints), tool=tool, poses=poses,
+                  source=path.resolve())
+    merged = {b: tuple(members[b][1:]) for b in names if len(members[b]) > 1}
+    log.info("URDF %s: %d links, %d joints, %d derived meshes", path.name, len(links),
+             len(joints), len(derived))
+    return UrdfImport(robot, tool_frame, merged, derived)
+
+
+def _geometry(tree: UrdfTree, name: str, meshes: str, notes: list[str]):
+    lk = tree.links[name]
+    other = "visual" if meshes == "collision" else "collision"
+    if lk.geometry(meshes) or not lk.geometry(other):
+        return lk.geometry(meshes)
+    notes.append(f"link '{name}': no {meshes} geometry, using the {other} one")
+    return lk.geometry(other)
+
+
+def _lumped(tree: UrdfTree, name: str, T: np.ndarray) -> LumpedMass:
+    """The ``<inertial>`` of link ``name`` as a lumped mass in the frame ``T`` places it."""
+    inertial = tree.links[name].inertial
+    F = T @ inertial.origin
+    R = F[:3, :3]
+    inertia = R @ inertial.inertia @ R.T
+    return LumpedMass(f"{name} (URDF inertial)", inertial.mass,
+                      tuple(float(v) for v in F[:3, 3]), tuple(map(tuple, inertia.tolist())))
+
+
+def _link(path: Path, tree: UrdfTree, body: str, members: list[str], T: dict, meshes: str,
+          material: str, folder: Path, notes: list[str]) -> tuple[Link, Path | None]:
+    """The :class:`Link` of moving link ``body`` with its fixed ``members`` merged in, and
+    the derived mesh written for it (None when it uses a published one or has none)."""
+    pieces, lumped = [], []
+    for name in members:
+        geometry = _geometry(tree, name, meshes, notes)
+        if geometry:
+            pieces += [Piece(g, T[name] @ g.origin, name) for g in geometry]
+            if tree.links[name].inertial is not None:
+                log.info("link %s: <inertial> not used (the mass comes from the CAD)", name)
+        elif tree.links[name].inertial is not None:
+            lumped.append(_lumped(tree, name, T[name]))
+    if not pieces and not sum(m.mass for m in lumped) > 0:
+        what = "the base" if body == tree.root else "a moving link"
+        raise ValueError(f"link '{body}' ({what}) has no mesh and no <inertial> mass: give it "
+                         "a <collision> or <visual> mesh or an <inertial>")
+    mesh, units, written = None, "m", None
+    if len(pieces) == 1:
+        as_published = published(pieces[0], path)
+        if as_published is not None:
+            mesh, units = as_published
+    if pieces and mesh is None:
+        written = write_derived(merged_mesh(pieces, path), folder, body)
+        mesh = written
+    return Link(body, mesh, MATERIALS[material], units, tuple(lumped), {}), written
+
+
+def _tool(tree: UrdfTree, body_of: dict, T: dict) -> tuple[str | None, Tool]:
+    """The tool frame (``tool0``, else ``flange``) fixed to a moving link, and its Tool."""
+    for name in TOOL_FRAMES:
+        if name in tree.links and body_of[name] != name:
+            xyz, rpy = xyz_rpy(T[name])
+            return name, Tool(xyz, rpy, body_of[name])
+    return None, Tool()
