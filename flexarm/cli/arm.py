@@ -7,8 +7,10 @@ import os
 
 from ._common import add_robot_args, arm_from, command, out, pose_from, wrote
 
-#: Every arm analysis runs on the E-model or the flexible arm.
-_MODELS = ("emodel", "cb", "guyan")
+#: Every arm analysis runs on the E-model, the flexible arm or the full-FE arm (solved
+#: pose by pose: a map over thousands of poses is for the reduced models).
+_MODELS = ("emodel", "cb", "guyan", "full")
+_MAP_MODELS = ("emodel", "cb", "guyan")
 
 
 # --- import-urdf -----------------------------------------------------------------------
@@ -101,7 +103,7 @@ def _run_frf(args) -> int:
 
 # --- map -------------------------------------------------------------------------------
 def _add_map(p: argparse.ArgumentParser) -> None:
-    add_robot_args(p, _MODELS)
+    add_robot_args(p, _MAP_MODELS)
     p.add_argument("--n", type=int, default=60, help="grid points per joint")
     p.add_argument("--no-frequencies", action="store_true", help="skip the first eigenfrequency")
     p.add_argument("-o", "--output", default=None, help="folder for map.csv and the PNGs")

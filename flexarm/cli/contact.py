@@ -65,7 +65,7 @@ def _run_circle(args) -> int:
 
 # --- chatter ---------------------------------------------------------------------------
 def _add_chatter(p: argparse.ArgumentParser) -> None:
-    add_robot_args(p, _MODELS)
+    add_robot_args(p, _MODELS + ("full",))
     p.add_argument("--kc", type=float, default=2e6, help="process stiffness K_c*b [N/m]")
     p.add_argument("--dir", type=float, default=30.0, help="force angle from the normal [deg]")
     p.add_argument("--normal", type=float, default=None,
