@@ -1,4 +1,4 @@
-"""The flexible arm: ``build``, ``compare-models``, ``study``, ``show-arm``."""
+"""The flexible arm: ``build``, ``compare-models``, ``study``, ``show-arm``, ``show-regions``."""
 
 from __future__ import annotations
 
@@ -113,3 +113,25 @@ def _run_show_arm(args) -> int:
     if path is not None:
         out(f"wrote {path}")
     return 0
+
+
+# --- show-regions ----------------------------------------------------------------------
+def _add_show_regions(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
+    p.add_argument("--mesh-size", type=float, default=None,
+                   help="tet edge of the link meshes [m] (default: the robot's)")
+    p.add_argument("--links", default=None, help="comma-separated link names (default: all)")
+    p.add_argument("-o", "--output", default=None,
+                   help="folder for regions_<link>.png and regions.csv (default: table only)")
+
+
+@command("show-regions", "each link's interface regions on its tet mesh: FE nodes, area, "
+         "offsets from the joint axis (table; PNG per link and CSV with -o)", _add_show_regions)
+def _run_show_regions(args) -> int:
+    from ..studies.show_regions import show_regions
+
+    res = show_regions(robot_from(args), args.output, args.mesh_size, progress=say,
+                       links=names(args.links) if args.links else None)
+    out(res.text())
+    wrote(res.files)
+    return 0 if res.ok else 1

@@ -1,0 +1,257 @@
+"""Bearing seats found on the CAD: a primitive arm, the demo arm, the ABB IRB 4600."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from flexarm.robot.description import Region
+from flexarm.robot.kinematics import rpy_matrix
+from flexarm.robot.seats import (
+    MIN_SAMPLE_POINTS,
+    detect_regions,
+    region_references,
+    seat_report,
+    surface_sample,
+)
+
+from ..primitive_arm import SEATS, primitive_arm_robot
+
+IRB_URDF = Path("/work/shared/data/irb4600/urdf/irb4600_60_205.urdf")
+IRB_MESH = 0.06  # [m] the coarse mesh of the build tests
+
+
+def _axis_distance(point, origin, axis) -> float:
+    d = np.asarray(point, float) - np.asarray(origin, float)
+    a = np.asarray(axis, float)
+    return float(np.linalg.norm(d - (d @ a) * a))
+
+
+def _link_regions(robot):
+    return {(lk.name, n): reg for lk in robot.links for n, reg in lk.regions.items()}
+
+
+# ------------------------------------------------------------------------------ sample
+def test_surface_sample_is_even_deterministic_and_outward():
+    import trimesh
+
+    box = trimesh.creation.box((0.3, 0.2, 0.1))
+    a = surface_sample(box.vertices, box.faces, spacing=0.004)
+    b = surface_sample(box.vertices, box.faces, spacing=0.004)
+    assert len(a.points) == math.floor(box.area / 0.004**2)
+    np.testing.assert_array_equal(a.points, b.points)
+    assert a.weight * len(a.points) == pytest.approx(box.area)
+    assert (np.einsum("ij,ij->i", a.normals, a.points) > 0).all()  # outward, box at 0
+    # even: every 5 cm patch of the 0.3 x 0.2 top face holds its share of points (+-10 %)
+    top = a.points[a.normals[:, 2] > 0.5]
+    counts, _, _ = np.histogram2d(top[:, 0], top[:, 1], bins=(6, 4))
+    assert counts.min() >= 0.9 * counts.mean() and counts.max() <= 1.1 * counts.mean()
+
+
+# ------------------------------------------------------------------------------ primitives
+@pytest.fixture(scope="module")
+def primitive(tmp_path_factory):
+    return primitive_arm_robot(tmp_path_factory.mktemp("primitive_arm"))
+
+
+@pytest.fixture(scope="module")
+def primitive_seats(primitive):
+    return detect_regions(primitive)
+
+
+def test_primitive_arm_gets_every_seat(primitive, primitive_seats):
+    """Faces of boxes and cylinders, a bore, the flange and the foundation: each centre
+    where the geometry puts it (1 mm), on the axis the joint gives in that link's frame."""
+    regions = _link_regions(primitive_seats)
+    assert set(regions) == set(SEATS)
+    refs = region_references(primitive_seats)
+    for key, want in SEATS.items():
+        reg = regions[key]
+        np.testing.assert_allclose(reg.center, want, atol=1e-3, err_msg=str(key))
+        axis = refs[key][1]
+        assert abs(np.dot(reg.axis, axis)) == pytest.approx(1.0, abs=1e-12), key
+    # joint_2's frame is yawed: the column sees its axis along -y, the arm along its x
+    np.testing.assert_allclose(regions[("column", "joint_2")].axis, [0, -1, 0], atol=1e-12)
+    np.testing.assert_allclose(regions[("arm", "joint_2")].axis, [1, 0, 0], atol=1e-12)
+    # the hub (a tube written in mm) seats on its bore: a ring about r = 20 mm through
+    # its 60 mm; the flange region is the far end face outside that ring
+    bore, tcp = regions[("hub", "joint_3")], regions[("hub", "tcp")]
+    assert bore.r_min < 0.02 < bore.r_max < 0.03 and bore.half_width >= 0.03
+    assert bore.r_max < tcp.r_min < 0.045 < tcp.r_max and tcp.coupling == "rbe3"
+    # faces are discs: the column's 0.16 m square end gives one inside its corners
+    col = regions[("column", "joint_1")]
+    assert col.r_min == 0.0 and 0.04 < col.r_max < 0.08 * math.sqrt(2)
+
+
+def test_primitive_seat_report(primitive_seats):
+    rows = {(r.link, r.region): r for r in seat_report(primitive_seats).rows}
+    assert set(rows) == set(SEATS)
+    for key, row in rows.items():
+        assert row.rank == 6 and row.n_points >= MIN_SAMPLE_POINTS, key
+        assert row.axis_offset < 1e-3, key  # every seat closes a ring about its axis
+    # the base's top face disc: area pi r^2 of its region radius, axial extent zero
+    top = rows[("base", "joint_1")]
+    assert top.axial == pytest.approx(0.0, abs=1e-9)
+    assert top.area == pytest.approx(math.pi * top.r_hi**2, rel=0.05)
+    assert rows[("hub", "joint_3")].origin_offset == pytest.approx(0.03, abs=1e-3)
+
+
+def test_given_regions_are_kept(primitive):
+    mine = Region((0.0, 0.0, 0.001), (0.0, 0.0, 1.0), 0.0, 0.05, 0.002)
+    links = list(primitive.links)
+    links[1] = dataclasses.replace(links[1], regions={"joint_1": mine})
+    robot = dataclasses.replace(primitive, links=tuple(links))
+    kept = detect_regions(robot, tcp=False, base=False)
+    regions = _link_regions(kept)
+    assert regions[("column", "joint_1")] is mine
+    assert ("base", "base") not in regions and ("hub", "tcp") not in regions
+    assert len(regions) == len(SEATS) - 2
+    replaced = detect_regions(robot, overwrite=True)
+    assert _link_regions(replaced)[("column", "joint_1")] != mine
+
+
+def test_missing_seat_names_link_joint_and_a_start(primitive):
+    """joint_3 moved 0.5 m off the arm: its axis misses the arm entirely."""
+    joints = list(primitive.joints)
+    joints[2] = dataclasses.replace(joints[2], origin=(0.6, 0.6, 0.5))
+    robot = dataclasses.replace(primitive, joints=tuple(joints))
+    with pytest.raises(ValueError) as err:
+        detect_regions(robot)
+    msg = str(err.value)
+    assert msg.startswith("links.arm: no bearing seat for joint_3")
+    assert "[links.regions.joint_3] center = [" in msg and "half_width = " in msg
+    assert "\n" not in msg
+
+
+def test_overlapping_seats_are_refused(primitive):
+    """A hand-made column region reaching both ends collides with a detected seat."""
+    long = Region((0.0, 0.0, 0.25), (0.0, 0.0, 1.0), 0.0, 0.2, 0.3)
+    links = list(primitive.links)
+    links[1] = dataclasses.replace(links[1], regions={"joint_1": long})
+    robot = dataclasses.replace(primitive, links=tuple(links))
+    with pytest.raises(ValueError, match="links.column: regions 'joint_1' and 'joint_2' "
+                                         "overlap"):
+        detect_regions(robot)
+
+
+# ------------------------------------------------------------------------------ demo arm
+def test_demo_detected_seats_match_the_hand_made_ones(demo_robot):
+    """Same axis; centres within 5 cm; the detected bore radius inside the hand-made
+    ring.  The tube shaft's fork is the exception by design: the hand-made seat is one
+    cheek, the detected one holds both (and so the hand-made centre)."""
+    t0 = time.perf_counter()
+    found = _link_regions(detect_regions(demo_robot, overwrite=True))
+    assert time.perf_counter() - t0 < 5.0  # from the CAD samples, no meshing
+    given = _link_regions(demo_robot)
+    assert set(found) == set(given)
+    for key, hand in given.items():
+        reg = found[key]
+        assert abs(np.dot(reg.axis, hand.axis)) == pytest.approx(1.0, abs=1e-12), key
+        assert hand.r_min <= 0.5 * (reg.r_min + reg.r_max) <= hand.r_max, key
+        gap = np.subtract(reg.center, hand.center)
+        if key == ("tube_shaft", "joint_5"):
+            assert abs(gap @ reg.axis) + 0.0175 <= reg.half_width  # the cheek, y 65-100 mm
+        else:
+            assert np.linalg.norm(gap) < 0.05, (key, gap)
+    # cast hubs: the bores of the lower arm run through both walls (190 and 180 mm)
+    assert found[("lower_arm", "joint_2")].half_width > 0.09
+    assert found[("lower_arm", "joint_3")].half_width > 0.085
+
+
+def test_demo_seat_report_of_the_hand_made_regions(demo_robot):
+    rep = seat_report(demo_robot)
+    assert len(rep.rows) == sum(len(lk.regions) for lk in demo_robot.links)
+    assert all(r.rank == 6 and r.n_points >= MIN_SAMPLE_POINTS for r in rep.rows)
+    text = rep.text()
+    assert text.splitlines()[1].split()[:3] == ["link", "region", "points"]
+    assert len(text.splitlines()) == 2 + len(rep.rows)
+
+
+# ------------------------------------------------------------------------------ IRB 4600
+@pytest.fixture(scope="module")
+def irb():
+    if not IRB_URDF.is_file():
+        pytest.skip(f"no IRB 4600 description at {IRB_URDF}")
+    from flexarm.robot.formats.urdf import read
+
+    with warnings.catch_warnings():  # the importer's own default regions miss the CAD
+        warnings.simplefilter("ignore")
+        robot = read(IRB_URDF)
+    return detect_regions(robot, overwrite=True, mesh_size=IRB_MESH)
+
+
+def _in_parent(robot, joint, point):
+    """A point of the joint's child frame in the parent frame (zero angle)."""
+    return rpy_matrix(joint.rpy) @ np.asarray(point) + np.asarray(joint.origin)
+
+
+def test_irb4600_every_joint_seat_on_both_links(irb):
+    regions = _link_regions(irb)
+    rows = {(r.link, r.region): r for r in seat_report(irb).rows}
+    refs = region_references(irb)
+    for jt in irb.joints:
+        for link in (jt.parent, jt.child):
+            key = (link, jt.name)
+            reg, row = regions[key], rows[key]
+            origin, axis = refs[key]
+            assert (reg.r_max, reg.half_width) != (0.15, 0.08), key  # not the default
+            assert row.n_points >= 300 and row.rank == 6, key
+            assert _axis_distance(reg.center, origin, axis) < 1e-9, key
+            # the seat surrounds the axis (hull faces are tilted: a little off centre)
+            assert row.axis_offset < min(0.01, 0.08 * row.r_hi), key
+            assert np.linalg.norm(np.subtract(reg.center, origin)) < 0.36, key
+        # the two seats of a joint meet: their centres within 8 cm of each other
+        child = _in_parent(irb, jt, regions[(jt.child, jt.name)].center)
+        assert np.linalg.norm(child - regions[(jt.parent, jt.name)].center) < 0.08, jt.name
+
+
+def test_irb4600_seats_where_the_hulls_meet(irb):
+    regions = _link_regions(irb)
+    # link_1 sits on its flat bottom face (z = -0.3415 m) and the base on its top
+    assert regions[("link_1", "joint_1")].center[2] == pytest.approx(-0.3415, abs=5e-3)
+    assert 0.15 < regions[("base_link", "joint_1")].center[2] < 0.213
+    # the wrist: link_4's fork holds both ends of link_5's hub (two-sided seats)
+    assert regions[("link_4", "joint_5")].half_width > 0.1
+    assert regions[("link_5", "joint_5")].half_width > 0.06
+    # the flange face (x = 0) carries the tool; the foundation is the bottom face z = 0
+    assert regions[("link_6", "tcp")].center[0] == pytest.approx(0.0, abs=2e-3)
+    assert regions[("base_link", "base")].center[2] == pytest.approx(0.0, abs=0.01)
+
+
+def test_irb4600_wrist_link_builds(irb):
+    """The two-sided hub seat and the face seat of link_5 on its pytetwild mesh: the
+    build accepts them (enough nodes, rank 6, no overlap) and reduces the link."""
+    from flexarm.assembly.build import BuildOptions, build_link
+
+    lb = build_link(irb, 5, BuildOptions(mesh_size=IRB_MESH))
+    assert lb.regions == ("joint_5", "joint_6")
+    assert lb.superelement.n_dofs == 2 * 6 + irb.options.cb_modes
+    f = lb.freq_hz
+    assert np.isfinite(f).all() and f[0] > 1e3  # a compact cast-iron block: kHz
+
+
+@pytest.mark.slow
+@pytest.mark.filterwarnings("ignore:.*placeholder stiffness")
+def test_irb4600_builds_and_its_cb_arm_is_softer_than_the_emodel(irb):
+    """The whole robot at 60 mm (~55 s cold, meshing dominates): every link reduced,
+    then CB(10) and E-model modes at the home pose."""
+    from flexarm.assembly.analyses import modes
+    from flexarm.assembly.arm import ArmSpec, build_arm
+    from flexarm.assembly.build import BuildOptions, build_robot
+
+    builds = build_robot(irb, BuildOptions(mesh_size=IRB_MESH))
+    assert [lb.regions[0] for lb in builds] == ["base"] + list(irb.joint_names)
+    q = np.zeros(len(irb.joints))
+    f_cb = modes(build_arm(irb, ArmSpec("cb", mesh_size=IRB_MESH)).model, q).freq_hz
+    f_e = modes(build_arm(irb, ArmSpec("emodel")).model, q).freq_hz
+    print("\nIRB 4600 home pose, first modes [Hz]:")  # noqa: T201
+    print("  CB(10)  ", np.round(f_cb[:6], 2))  # noqa: T201
+    print("  E-model ", np.round(f_e[:6], 2))  # noqa: T201
+    assert np.isfinite(f_cb).all() and (f_cb[:6] > 0).all()
+    assert f_cb[0] <= f_e[0] * (1 + 1e-9)

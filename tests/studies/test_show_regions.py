@@ -1,0 +1,127 @@
+"""The regions job: FE nodes on the tet meshes, the table, the CSV and the pictures."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from flexarm.robot.description import Region
+from flexarm.robot.seats import detect_regions
+from flexarm.studies.show_regions import show_regions
+
+from ..primitive_arm import SEATS, primitive_arm_robot
+
+H = 0.04  # [m] tet edge: pytetwild meshes the primitives in about a second each
+SIZE = (480, 360)
+
+
+@pytest.fixture(scope="module")
+def robot(tmp_path_factory):
+    return detect_regions(primitive_arm_robot(tmp_path_factory.mktemp("primitive_arm")),
+                          mesh_size=H)
+
+
+@pytest.fixture(scope="module")
+def result(robot):
+    return show_regions(robot, mesh_size=H)
+
+
+@pytest.fixture(scope="module")
+def gl():
+    from flexarm.fe.errors import FlexarmError, MissingDependencyError
+    from flexarm.reduction.render import render_backend
+
+    try:
+        return render_backend()
+    except (FlexarmError, MissingDependencyError) as exc:
+        pytest.skip(f"no off-screen rendering here: {exc}")
+
+
+def test_every_detected_region_works_on_the_tet_mesh(robot, result):
+    """What the build checks, on the pytetwild meshes at the size the seats were found
+    for: every region holds non-collinear surface nodes and no node is in two."""
+    from flexarm.assembly.build import link_mesh
+    from flexarm.reduction.interfaces import select_region
+
+    assert result.ok and result.mesh_size == H
+    rows = {(r.link, r.region): r for r in result.rows}
+    assert set(rows) == set(SEATS)
+    # the counts are those of the build's own selection on the cached mesh
+    arm = robot.links[2]
+    mesh = link_mesh(arm, H)
+    for name, reg in arm.regions.items():
+        cyl = _cylinder(name, reg)
+        assert rows[("arm", name)].fe_nodes == select_region(mesh, cyl).size
+    for key, row in rows.items():
+        assert row.fe_nodes >= 6 and row.status == "ok", key
+        assert row.seat.rank == 6 and row.seat.axis_offset < 1e-3, key
+    # a 20 mm bore through the 60 mm hub: its wall's nodes, on both rims at least
+    assert rows[("hub", "joint_3")].fe_nodes >= 2 * 16
+
+
+def _cylinder(name, reg):
+    from flexarm.reduction.interfaces import CylinderRegion
+
+    return CylinderRegion(name, reg.center, reg.axis, reg.r_min, reg.r_max, reg.half_width)
+
+
+def test_table_lists_links_and_regions(result):
+    lines = result.text().splitlines()
+    assert "tet mesh at 40 mm" in lines[0]
+    assert lines[1].split() == ["link", "region", "FE_nodes", "area_cm2", "r_mm", "axial_mm",
+                                "off_axis_mm", "off_origin_mm", "status"]
+    body = [ln.split() for ln in lines[2:]]
+    assert [(b[0], b[1]) for b in body] == [(r.link, r.region) for r in result.rows]
+    hub = next(b for b in body if b[:2] == ["hub", "joint_3"])
+    assert hub[5] == "60.0" and hub[-1] == "ok"  # axial extent of the bore [mm]
+
+
+def test_missing_and_overlapping_regions_are_reported(robot):
+    links = list(robot.links)
+    col = dict(links[1].regions)
+    del col["joint_2"]
+    links[1] = dataclasses.replace(links[1], regions=col)
+    base = dict(links[0].regions)  # a foundation region as tall as the base
+    base["base"] = Region((0.0, 0.0, 0.15), (0.0, 0.0, 1.0), 0.0, 0.2, 0.16)
+    links[0] = dataclasses.replace(links[0], regions=base)
+    res = show_regions(dataclasses.replace(robot, links=tuple(links)), mesh_size=H)
+    rows = {(r.link, r.region): r for r in res.rows}
+    assert not res.ok
+    assert rows[("column", "joint_2")].status.startswith("missing")
+    assert rows[("column", "joint_2")].fe_nodes == 0
+    assert rows[("column", "joint_1")].status == "ok"
+    assert rows[("base", "joint_1")].status.startswith("overlaps region 'base'")
+    assert rows[("arm", "joint_2")].status == "ok"
+    assert "missing" in res.text().splitlines()[-1] or any(
+        ln.endswith("missing: the build needs one") for ln in res.text().splitlines())
+
+
+def test_csv_and_one_picture_per_link(robot, result, tmp_path, gl):
+    import imageio.v3 as iio
+
+    files = result.write(tmp_path, window_size=SIZE)
+    assert [p.name for p in files] == ["regions.csv"] + [f"regions_{lk.name}.png"
+                                                         for lk in robot.links]
+    csv = (tmp_path / "regions.csv").read_text().splitlines()
+    head = csv[0].split(",")
+    assert head[:3] == ["link", "region", "fe_nodes"] and head[-1] == "status"
+    assert len(csv) == 1 + len(result.rows)
+    hub = next(ln.split(",") for ln in csv if ln.startswith("hub,joint_3,"))
+    assert float(hub[head.index("r_min_m")]) == pytest.approx(
+        robot.links[3].regions["joint_3"].r_min, rel=1e-5)
+    # each picture shows its regions' colours: the first region's blue (tab10 #1f77b4)
+    # and the second's orange on a white background
+    for lk in robot.links:
+        img = iio.imread(tmp_path / f"regions_{lk.name}.png")[..., :3].astype(int)
+        assert img.shape[:2] == (SIZE[1], SIZE[0])
+        for colour in ((0x1F, 0x77, 0xB4), (0xFF, 0x7F, 0x0E)):
+            near = np.abs(img - np.array(colour)).sum(axis=-1) < 60
+            assert near.sum() > 50, (lk.name, colour)
+
+
+def test_show_regions_writes_with_out_dir(robot, tmp_path, gl):
+    res = show_regions(robot, tmp_path, mesh_size=H)
+    assert res.files[0] == tmp_path / "regions.csv" and len(res.files) == 1 + len(robot.links)
+    assert all(p.stat().st_size > 0 for p in res.files)
