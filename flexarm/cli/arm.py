@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from ._common import add_robot_args, arm_from, command, out, pose_from, wrote
+from ._common import add_robot_args, arm_from, command, floats, out, pose_from, wrote
 
 #: Every arm analysis runs on the E-model, the flexible arm or the full-FE arm (solved
 #: pose by pose: a map over thousands of poses is for the reduced models).
@@ -22,8 +22,14 @@ def _add_import_urdf(p: argparse.ArgumentParser) -> None:
     p.add_argument("--meshes", default="collision", choices=["collision", "visual"],
                    help="which URDF geometry becomes the link CAD (STL, OBJ, PLY, DAE)")
     p.add_argument("--total-mass", type=float, default=None, metavar="KG",
-                   help="scale the link densities so the robot weighs KG (solid CAD hulls of "
-                        "hollow castings are far too heavy otherwise)")
+                   help="the robot's datasheet mass: the link densities are scaled so it "
+                        "weighs KG (solid CAD hulls of hollow castings are far too heavy)")
+    p.add_argument("--wall", default=None, metavar="M|auto",
+                   help="hollow every solid link hull to walls this thick [m], or 'auto': "
+                        "the wall that makes the robot weigh --total-mass (stiffer-to-truth "
+                        "than scaling the density of a solid hull)")
+    p.add_argument("--no-regions", action="store_true",
+                   help="do not look for the bearing seats on the link CAD")
 
 
 @command("import-urdf", "write a robot TOML from a URDF (origins, axes, limits, meshes, tool "
@@ -32,8 +38,10 @@ def _run_import_urdf(args) -> int:
     from ..robot.formats import write
     from ..studies.import_urdf import derived_meshes_dir, import_urdf
 
+    wall = args.wall if args.wall in (None, "auto") else floats(args.wall, "--wall")[0]
     imported = import_urdf(args.urdf, args.meshes, args.total_mass,
-                           derived_dir=derived_meshes_dir(args.output))
+                           derived_dir=derived_meshes_dir(args.output), wall=wall,
+                           regions=not args.no_regions)
     write(args.output, imported.robot)
     out(f"wrote {args.output}: {imported.summary()}")
     for line in imported.report(args.output):

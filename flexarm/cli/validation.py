@@ -8,7 +8,7 @@ from ._common import add_robot_args, command, out, say, wrote
 
 
 def _add_validation_common(p: argparse.ArgumentParser) -> None:
-    add_robot_args(p, ("emodel",), pose=False, flexible=False)
+    add_robot_args(p, ("emodel", "cb", "guyan"), pose=False)
     p.add_argument("--flexible", action="store_true", help="build the flexible model (link "
                    "flexibility); the E-model then takes its masses from the same tet meshes")
     p.add_argument("--flex-mesh", type=float, default=0.06,
@@ -21,7 +21,8 @@ def _options(args):
     """The :class:`~flexarm.validation.models.ValidationOptions` of the shared options."""
     from ..validation.models import ValidationOptions
 
-    return ValidationOptions(args.mass, args.flexible, args.flex_mesh, args.flex_modes)
+    return ValidationOptions(args.mass, args.flexible, args.flex_mesh, args.flex_modes,
+                             args.model, args.mesh_size, args.modes, args.coupling)
 
 
 # --- lab -------------------------------------------------------------------------------

@@ -119,6 +119,21 @@ def _to_trimesh(solid) -> trimesh.Trimesh:
     return trimesh.Trimesh(vertices, np.array(mesh.tri_verts, dtype=np.int64), process=False)
 
 
+def _one_per_cluster(points: np.ndarray, radius: float) -> np.ndarray:
+    """``points`` (n, 3) with every cluster of points within ``radius`` [m] of each other
+    (transitively) replaced by its first point."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    pairs = cKDTree(points).query_pairs(radius, output_type="ndarray")
+    n = len(points)
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    _, first = np.unique(label, return_index=True)
+    return points[np.sort(first)]
+
+
 def _hull_mesh(points: np.ndarray) -> trimesh.Trimesh:
     """Closed, outward-wound surface of the convex hull of ``points`` (n, 3).
 
@@ -140,7 +155,53 @@ def _hull_mesh(points: np.ndarray) -> trimesh.Trimesh:
         trimesh.repair.fix_winding(mesh)
         if mesh.volume < 0:
             mesh.invert()
-    return mesh
+    return _flip_flat_faces(mesh)
+
+
+def _flip_flat_faces(mesh: trimesh.Trimesh, passes: int = 20) -> trimesh.Trimesh:
+    """``mesh`` with every face of near-zero height (a corner on the opposite edge: qhull
+    triangulates coplanar facets so) replaced, with its neighbour across that edge, by the
+    two faces of the other diagonal.  A file reader's repair would drop such a face and
+    open the surface; the flip keeps it closed and the volume unchanged."""
+    vertices, faces = mesh.vertices, mesh.faces.copy()
+    limit = tol.hollow_flat_face * float(np.ptp(vertices, axis=0).max())
+    for _ in range(passes):
+        tri = vertices[faces]
+        edges = tri[:, [1, 2, 0]] - tri  # edge k runs from corner k to corner k + 1
+        length = np.linalg.norm(edges, axis=2)
+        k = np.argmax(length, axis=1)  # the long edge; its opposite corner is k + 2
+        area2 = np.linalg.norm(np.cross(edges[:, 0], edges[:, 1]), axis=1)
+        flat = np.flatnonzero(area2 < limit * length[np.arange(len(faces)), k])
+        if flat.size == 0:
+            break
+        faces = _flip_once(faces, flat, k, vertices)
+    return trimesh.Trimesh(vertices, faces, process=False)
+
+
+def _flip_once(faces: np.ndarray, flat: np.ndarray, k: np.ndarray,
+               vertices: np.ndarray) -> np.ndarray:
+    """One pass of edge flips over the ``flat`` faces (each flip touches two faces; a face
+    already touched in this pass waits for the next)."""
+    owner = {}
+    for f in range(len(faces)):
+        for e in range(3):
+            owner[(faces[f, e], faces[f, (e + 1) % 3])] = f
+    done = set()
+    for f in flat:
+        a, b, c = (faces[f, (k[f] + i) % 3] for i in range(3))
+        g = owner.get((b, a))
+        if g is None or f in done or g in done:
+            continue
+        d = next(v for v in faces[g] if v not in (a, b))
+        normal = np.cross(vertices[faces[g, 1]] - vertices[faces[g, 0]],
+                          vertices[faces[g, 2]] - vertices[faces[g, 0]])
+        new = [(c, a, d), (c, d, b)]
+        for i, (u, v, w) in enumerate(new):
+            n = np.cross(vertices[v] - vertices[u], vertices[w] - vertices[u])
+            new[i] = (u, v, w) if n @ normal >= 0 else (u, w, v)
+        faces[f], faces[g] = new
+        done.update((f, g))
+    return faces
 
 
 def _winding_number(point: np.ndarray, triangles: np.ndarray) -> float:
@@ -239,7 +300,10 @@ class _Solid:
             if self.inradius - thickness < tol.hollow_flat_cavity * self.size:
                 return None  # a sheet only rounding errors thick: no cavity
             raise
-        return points
+        # Offset planes of nearly coplanar facets meet in clusters of corners nanometres
+        # apart; kept, they become needle faces that a file's float32 rounding collapses
+        # into holes.  One corner per cluster keeps the cavity closed through any file.
+        return _one_per_cluster(points, tol.hollow_point_merge * self.size)
 
     def _convex_ok(self, thickness: float) -> bool:
         """Whether the offset hull is a valid cavity: clear of the surface and inside it."""

@@ -47,6 +47,13 @@ class Tolerances:
     #: Wall for a mass: relative margin on (solid parts + lumped masses) within which a
     #: target counts as the solid mass (returns the inscribed radius; above: too light).
     hollow_mass_match: float = 1e-12
+    #: Corners of an inward-offset hull within this times the part size [-] of each other
+    #: are one corner (keeps the cavity closed through a float32 STL and a repair).
+    hollow_point_merge: float = 1e-5
+
+    #: A cavity face whose height is below this times the part size [-] is flat: flipped
+    #: with its neighbour so no reader's repair drops it.
+    hollow_flat_face: float = 1e-7
 
 
 tol = Tolerances()

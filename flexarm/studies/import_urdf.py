@@ -12,6 +12,8 @@ from ..assembly.emodel import total_mass, with_total_mass
 from ..fe.typing import PathType
 from ..robot.description import Robot
 from ..robot.formats import urdf
+from ..robot.hollowing import Hollowing, hollow_links
+from ..robot.seats import detect_regions
 
 __all__ = ["ImportedRobot", "import_urdf", "derived_meshes_dir"]
 
@@ -29,6 +31,7 @@ class ImportedRobot:
     tool_frame: str | None = None
     merged: dict = field(default_factory=dict)
     derived: dict = field(default_factory=dict)
+    hollowing: Hollowing | None = None
 
     @property
     def placeholder_joints(self) -> tuple[str, ...]:
@@ -48,13 +51,21 @@ class ImportedRobot:
         for lk in self.robot.links:
             extra = self.merged.get(lk.name, ())
             links.append(lk.name + (f" (+ {', '.join(extra)})" if extra else ""))
-        n_derived = len(self.derived)
-        n_published = sum(lk.mesh is not None for lk in self.robot.links) - n_derived
-        meshes = f"{n_published} as published, {n_derived} derived"
-        if n_derived:
-            meshes += f" in {Path(next(iter(self.derived.values()))).parent}"
+        n_meshed = sum(lk.mesh is not None for lk in self.robot.links)
+        n_hollow = 0 if self.hollowing is None else sum(
+            not lk.is_solid for lk in self.hollowing.links)
+        n_derived = len(set(self.derived) | {lk.name for lk in (
+            self.hollowing.links if self.hollowing else ()) if not lk.is_solid})
+        meshes = f"{n_meshed - n_derived} as published, {n_derived} derived"
+        if n_hollow:
+            meshes += f" ({n_hollow} hollowed)"
         lines = [f"links: {', '.join(links)}; meshes: {meshes}",
                  f"joints: {', '.join(self.robot.joint_names)}", self._tool_line()]
+        if self.hollowing is not None:
+            lines += self.hollowing.text().splitlines()
+        n_regions = sum(len(lk.regions) for lk in self.robot.links)
+        lines.append(f"bearing seats: {n_regions} regions found on the link CAD and written "
+                     f"out for review (`flexarm show-regions --robot {robot_file} -o DIR`)")
         if self.placeholder_joints:
             lines.append(
                 f"placeholder stiffness (a URDF has none) on {', '.join(self.placeholder_joints)}"
@@ -86,9 +97,10 @@ def derived_meshes_dir(robot_file: PathType) -> Path:
 
 
 def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None = None,
-                derived_dir: PathType | None = None) -> ImportedRobot:
-    """Read a URDF and, given ``mass_kg`` [kg], scale every link density by one factor so
-    the robot weighs that much (stiffness is kept).
+                derived_dir: PathType | None = None, wall: float | str | None = None,
+                regions: bool = True) -> ImportedRobot:
+    """Read a URDF, optionally hollow its solid link hulls, find every bearing seat on the
+    link CAD, and match the datasheet mass.
 
     Parameters
     ----------
@@ -97,11 +109,18 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
     meshes : {"collision", "visual"}
         Which URDF geometry becomes the link CAD.
     mass_kg : float, optional
-        The robot's real mass [kg] (datasheet).
+        The robot's real mass [kg] (datasheet).  Without ``wall`` every link density is
+        scaled by one factor (stiffness kept); with a given ``wall`` the densities of the
+        shells are scaled; with ``wall="auto"`` the wall is chosen to match it.
     derived_dir : path-like, optional
         Folder for link meshes the import derives (merged elements, origins, scales,
-        merged fixed links); default the package cache.  Pass
+        merged fixed links, shells); default the package cache.  Pass
         :func:`derived_meshes_dir` of the robot TOML to keep the TOML relocatable.
+    wall : float or "auto", optional
+        Hollow every link hull to walls this thick [m] (:mod:`flexarm.robot.hollowing`).
+    regions : bool
+        Find the bearing seats (:func:`flexarm.robot.seats.detect_regions`); they are
+        written into the robot file for review.
 
     Examples
     --------
@@ -117,19 +136,14 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
     ('2 links, 1 joint, 7.0 kg (solid CAD: 7.0 kg)', ('j1',))
     """
     imported = urdf.load(path, meshes=meshes, derived_dir=derived_dir)
-    robot = _seat_regions(imported.robot)
+    robot = imported.robot
     solid = total_mass(robot, "surface")
-    if mass_kg is not None:
+    if regions:  # on the outer CAD: a shell's cavity would read as bores and faces
+        robot = detect_regions(robot)
+    hollowing = None
+    if wall is not None:
+        robot, hollowing = hollow_links(robot, wall, mass_kg, derived_dir)
+    if mass_kg is not None and wall != "auto":
         robot = with_total_mass(robot, mass_kg)
     return ImportedRobot(robot, solid, total_mass(robot, "surface"), imported.tool_frame,
-                         imported.merged, imported.derived)
-
-
-def _seat_regions(robot: Robot) -> Robot:
-    """The seat-regions step of an import.
-
-    The URDF reader leaves every link's ``regions`` empty: a URDF says where the joints
-    are, not which CAD surfaces carry them.  The seats found on each link's CAD are put
-    in here; until then the robot passes through unchanged.
-    """
-    return robot
+                         imported.merged, imported.derived, hollowing)

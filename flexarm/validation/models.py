@@ -22,6 +22,9 @@ from ..robot.loader import load_robot
 
 __all__ = ["ValidationOptions", "DEFAULT_OPTIONS", "ValidationModels", "validation_models", "load"]
 
+#: Models a validation run compares or diagnoses.
+_MODELS = ("emodel", "guyan", "cb")
+
 
 @dataclass(frozen=True)
 class ValidationOptions:
@@ -32,6 +35,11 @@ class ValidationOptions:
     mass : {"surface", "tets"}
         E-model link mass properties without a flexible model (see
         :class:`~flexarm.assembly.arm.ArmSpec`).
+    model : {"emodel", "guyan", "cb"}
+        The model compared with or diagnosed on the measurements: rigid links, or links
+        reduced by Guyan or Craig-Bampton (``mesh_size``, ``n_modes``, ``coupling`` as
+        in :class:`~flexarm.assembly.arm.ArmSpec`).  The full-FE model is not offered:
+        a diagnosis evaluates its model thousands of times.
     flexible : bool
         Also build the coarse flexible model (the link-flexibility candidate); the
         E-model then takes its masses from the same tet meshes.
@@ -45,10 +53,21 @@ class ValidationOptions:
     flexible: bool = False
     flex_mesh: float = 0.06
     flex_modes: int = 4
+    model: str = "emodel"
+    mesh_size: float | None = None
+    n_modes: int | None = None
+    coupling: str = "rbe2"
 
     def __post_init__(self) -> None:
         if self.mass not in MASS_METHODS:
             raise ValueError(f"mass must be one of {', '.join(MASS_METHODS)}, got '{self.mass}'")
+        if self.model not in _MODELS:
+            raise ValueError(f"a validation run works on the {', '.join(_MODELS)} model, got "
+                             f"'{self.model}' (the full-FE model would be solved thousands of "
+                             "times; compare-models gives its difference from cb)")
+        if self.flexible and self.model != "emodel":
+            raise ValueError("the link-flexibility candidate turns rigid links flexible: it "
+                             f"needs the E-model, and the {self.model} model has flexible links")
 
 
 #: The options of the commands' defaults: E-model from the CAD surfaces, no flexible model.
@@ -65,7 +84,8 @@ class ValidationModels:
         The robot description; its ``effects`` (the robot file's ``[nonlinear]`` table)
         belong to the model.
     arm : ArmModel
-        The E-model compared with or diagnosed on the measurements.
+        The model compared with or diagnosed on the measurements (the E-model unless
+        the options name a flexible one).
     flexible : ArmModel or None
         The coarse flexible model of the link-flexibility candidate (None: not built).
     flex_mesh : float or None
@@ -107,7 +127,9 @@ def validation_models(robot: Robot | PathType | None = None,
     """
     robot = load(robot)
     if not options.flexible:
-        return ValidationModels(robot, build_arm(robot, ArmSpec("emodel", options.mass)).model)
+        spec = ArmSpec(options.model, options.mass, options.mesh_size, options.n_modes,
+                       options.coupling)
+        return ValidationModels(robot, build_arm(robot, spec, progress).model)
     if progress is not None:
         progress(f"flexible model (mesh {options.flex_mesh} m, cached after the first run)")
     flexible = build_arm(robot, ArmSpec("cb", mesh_size=options.flex_mesh,

@@ -1,0 +1,61 @@
+"""Hollowing every link of a robot: shell masses in closed form, the wall matched to a mass,
+links too thin for the wall kept solid, regions kept."""
+
+from __future__ import annotations
+
+import pytest
+import trimesh
+
+from flexarm.fe import MATERIALS
+from flexarm.robot import Joint, JointModel, Link, Region, Robot
+from flexarm.robot.hollowing import hollow_links
+
+STEEL = MATERIALS["steel"]
+
+
+def _boxes(folder, sizes):
+    links = []
+    for name, (a, b, c) in sizes.items():
+        path = folder / f"{name}.stl"
+        trimesh.creation.box((a, b, c)).export(path)
+        links.append(Link(name, path, STEEL, regions={
+            "j1": Region((0, 0, c / 2), (0, 0, 1), 0.0, 0.05, 0.005)}))
+    joint = Joint("j1", links[0].name, links[1].name, (0, 0, 0.2), (0, 0, 1), -3, 3,
+                  JointModel(1e5))
+    return Robot("boxes", tuple(links), (joint,))
+
+
+def _shell(a, b, c, t):
+    return a * b * c - (a - 2 * t) * (b - 2 * t) * (c - 2 * t)
+
+
+def test_given_wall_gives_the_closed_form_shell_mass(tmp_path):
+    robot = _boxes(tmp_path, {"base": (0.4, 0.3, 0.2), "arm": (0.6, 0.1, 0.1)})
+    hollowed, report = hollow_links(robot, 0.01, out_dir=tmp_path / "shells")
+    for row, (a, b, c) in zip(report.links, ((0.4, 0.3, 0.2), (0.6, 0.1, 0.1)), strict=True):
+        assert row.solid_mass == pytest.approx(STEEL.rho * a * b * c, rel=1e-6)  # STL stores float32
+        assert row.shell_mass == pytest.approx(STEEL.rho * _shell(a, b, c, 0.01), rel=1e-6)
+        assert all(0 < r < 1 for r in row.bending) and not row.is_solid
+    for old, new in zip(robot.links, hollowed.links, strict=True):
+        assert new.mesh != old.mesh and new.mesh.parent == (tmp_path / "shells").resolve()
+        assert new.regions == old.regions
+        assert trimesh.load(new.mesh).is_watertight
+    assert "10.0 mm walls (given)" in report.text()
+
+
+def test_auto_wall_matches_the_mass_and_thin_links_stay_solid(tmp_path):
+    robot = _boxes(tmp_path, {"base": (0.4, 0.3, 0.2), "plate": (0.3, 0.3, 0.02)})
+    target = STEEL.rho * (_shell(0.4, 0.3, 0.2, 0.015) + 0.3 * 0.3 * 0.02)
+    _, report = hollow_links(robot, "auto", mass_kg=target, out_dir=tmp_path)
+    assert report.wall == pytest.approx(0.015, rel=1e-7)
+    assert report.matched_mass == target
+    assert [r.is_solid for r in report.links] == [False, True]
+    assert "stays solid" in report.text()
+
+
+def test_auto_needs_the_mass_and_the_wall_must_be_positive(tmp_path):
+    robot = _boxes(tmp_path, {"base": (0.4, 0.3, 0.2), "arm": (0.6, 0.1, 0.1)})
+    with pytest.raises(ValueError, match="needs the robot's mass"):
+        hollow_links(robot, "auto")
+    with pytest.raises(ValueError, match="positive length"):
+        hollow_links(robot, -0.01)
