@@ -1,4 +1,4 @@
-"""Tolerances of paths, quaternions and RAPID values (``tol.<name>``)."""
+"""Tolerances of paths, quaternions, RAPID values and bearing seats (``tol.<name>``)."""
 
 from __future__ import annotations
 
@@ -15,6 +15,24 @@ class Tolerances:
     collinear: float = 1e-9
     #: Below this angle [rad] SLERP falls back to normalised linear interpolation.
     slerp_small_angle: float = 1e-9
+    #: Bearing seats: share of the angular sectors about an axis [-] that a surface must
+    #: cover to close a ring (a plane that merely contains the axis covers two of twelve).
+    seat_ring_coverage: float = 0.75
+    #: Bearing seats: a surface point faces a direction when the cosine between its normal
+    #: and that direction is at least this [-] (0.5: within 60 degrees).
+    seat_facing: float = 0.5
+    #: Bearing seats: an end face is followed outwards while its front stays within this
+    #: slope [m axial drop per m radius] of its point on the axis (hull faces are faceted).
+    seat_face_slope: float = 0.5
+    #: Bearing seats: tet-mesh surface nodes a face seat is grown to catch at the mesh size,
+    #: as a multiple [-] of the rank-6 minimum (``min_region_nodes`` of the reduction layer).
+    seat_mesh_nodes_factor: int = 4
+    #: Bearing seats: CAD sample points [-] a seat must hold (a sample: far more than the
+    #: rank-6 minimum of 3 nodes).
+    seat_min_sample_points: int = 20
+    #: Bearing seats: other surface a face seat's cylinder may take inside its rim, as a
+    #: share [-] of the seat's own surface (sample points; more: a side wall, shrink it).
+    seat_foreign_area: float = 0.15
 
 
 tol = Tolerances()

@@ -1,4 +1,8 @@
-"""Bearing seats found on the CAD: a primitive arm, the demo arm, the ABB IRB 4600."""
+"""Bearing seats found on the CAD: a primitive arm, the demo arm, the ABB IRB 4600.
+
+The parts have their own tests: the sample (``test_seat_sample``), rings, bores and faces
+(``test_seat_geometry``), one seat's search (``test_seat_search``) and the report
+(``test_seat_report``)."""
 
 from __future__ import annotations
 
@@ -11,15 +15,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from flexarm.reduction.tolerances import tol as red_tol
+from flexarm.robot import seats
 from flexarm.robot.description import Region
 from flexarm.robot.kinematics import rpy_matrix
-from flexarm.robot.seats import (
-    MIN_SAMPLE_POINTS,
-    detect_regions,
-    region_references,
-    seat_report,
-    surface_sample,
-)
+from flexarm.robot.seats import detect_regions, region_references, seat_report
+from flexarm.robot.tolerances import tol
 
 from ..primitive_arm import SEATS, primitive_arm_robot
 
@@ -35,23 +36,6 @@ def _axis_distance(point, origin, axis) -> float:
 
 def _link_regions(robot):
     return {(lk.name, n): reg for lk in robot.links for n, reg in lk.regions.items()}
-
-
-# ------------------------------------------------------------------------------ sample
-def test_surface_sample_is_even_deterministic_and_outward():
-    import trimesh
-
-    box = trimesh.creation.box((0.3, 0.2, 0.1))
-    a = surface_sample(box.vertices, box.faces, spacing=0.004)
-    b = surface_sample(box.vertices, box.faces, spacing=0.004)
-    assert len(a.points) == math.floor(box.area / 0.004**2)
-    np.testing.assert_array_equal(a.points, b.points)
-    assert a.weight * len(a.points) == pytest.approx(box.area)
-    assert (np.einsum("ij,ij->i", a.normals, a.points) > 0).all()  # outward, box at 0
-    # even: every 5 cm patch of the 0.3 x 0.2 top face holds its share of points (+-10 %)
-    top = a.points[a.normals[:, 2] > 0.5]
-    counts, _, _ = np.histogram2d(top[:, 0], top[:, 1], bins=(6, 4))
-    assert counts.min() >= 0.9 * counts.mean() and counts.max() <= 1.1 * counts.mean()
 
 
 # ------------------------------------------------------------------------------ primitives
@@ -87,19 +71,6 @@ def test_primitive_arm_gets_every_seat(primitive, primitive_seats):
     # faces are discs: the column's 0.16 m square end gives one inside its corners
     col = regions[("column", "joint_1")]
     assert col.r_min == 0.0 and 0.04 < col.r_max < 0.08 * math.sqrt(2)
-
-
-def test_primitive_seat_report(primitive_seats):
-    rows = {(r.link, r.region): r for r in seat_report(primitive_seats).rows}
-    assert set(rows) == set(SEATS)
-    for key, row in rows.items():
-        assert row.rank == 6 and row.n_points >= MIN_SAMPLE_POINTS, key
-        assert row.axis_offset < 1e-3, key  # every seat closes a ring about its axis
-    # the base's top face disc: area pi r^2 of its region radius, axial extent zero
-    top = rows[("base", "joint_1")]
-    assert top.axial == pytest.approx(0.0, abs=1e-9)
-    assert top.area == pytest.approx(math.pi * top.r_hi**2, rel=0.05)
-    assert rows[("hub", "joint_3")].origin_offset == pytest.approx(0.03, abs=1e-3)
 
 
 def test_given_regions_are_kept(primitive):
@@ -140,6 +111,53 @@ def test_overlapping_seats_are_refused(primitive):
         detect_regions(robot)
 
 
+def test_no_flange_or_foundation_face_warns_and_skips(primitive, tmp_path):
+    """A hub whose CAD misses its flange axis, a base that is an upside-down cone (no
+    face looks down): both skipped with a warning that points at the caller."""
+    import trimesh
+
+    far = trimesh.creation.box((0.05, 0.05, 0.05))
+    far.apply_translation((0.5, 0.0, 0.5))
+    far.export(tmp_path / "far.stl")
+    cone = trimesh.creation.cone(0.15, 0.3, sections=64)
+    cone.apply_transform(trimesh.transformations.rotation_matrix(math.pi, [1, 0, 0]))
+    cone.apply_translation((0.0, 0.0, 0.3))
+    cone.export(tmp_path / "cone.stl")
+    links = list(primitive.links)
+    links[0] = dataclasses.replace(links[0], mesh=tmp_path / "cone.stl")
+    links[2] = dataclasses.replace(links[2], regions={
+        "joint_3": Region((0.05, 0.6, 0.0), (0.0, 1.0, 0.0), 0.0, 0.04, 0.01)})
+    links[3] = dataclasses.replace(links[3], mesh=tmp_path / "far.stl", units="m", regions={
+        "joint_3": Region((0.5, 0.0, 0.5), (0.0, 1.0, 0.0), 0.0, 0.04, 0.03)})
+    robot = dataclasses.replace(primitive, links=tuple(links))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        found = detect_regions(robot)
+    assert [str(w.message) for w in caught] == [
+        "links.hub: no flange face for a 'tcp' region (no flange face closes a ring about the "
+        "axis); the TCP is carried rigidly by the flange seat",
+        "links.base: no foundation face for a 'base' region (no surface faces away from the "
+        "first joint); the base stays rigid"]
+    assert all(w.filename == __file__ for w in caught)
+    regions = _link_regions(found)
+    assert ("hub", "tcp") not in regions and ("base", "base") not in regions
+    assert ("base", "joint_1") in regions and ("column", "joint_1") in regions
+
+
+def test_parts_and_tolerances_are_importable_from_seats():
+    from flexarm.robot import seat_report as report
+    from flexarm.robot import seat_sample, seat_search
+
+    assert seats.surface_sample is seat_sample.surface_sample
+    assert seats.SeatReport is report.SeatReport and seats.seat_row is report.seat_row
+    assert seats.SEAT_FRACTION == seat_search.SEAT_FRACTION
+    assert (seats.RING_COVERAGE, seats.FACE_SLOPE, seats.MIN_SAMPLE_POINTS,
+            seats.FOREIGN_AREA) == (tol.seat_ring_coverage, tol.seat_face_slope,
+                                    tol.seat_min_sample_points, tol.seat_foreign_area)
+    assert seats.MIN_MESH_NODES == tol.seat_mesh_nodes_factor * red_tol.min_region_nodes
+    assert all(hasattr(seats, name) for name in seats.__all__)
+
+
 # ------------------------------------------------------------------------------ demo arm
 def test_demo_detected_seats_match_the_hand_made_ones(demo_robot):
     """Same axis; centres within 5 cm; the detected bore radius inside the hand-made
@@ -162,15 +180,6 @@ def test_demo_detected_seats_match_the_hand_made_ones(demo_robot):
     # cast hubs: the bores of the lower arm run through both walls (190 and 180 mm)
     assert found[("lower_arm", "joint_2")].half_width > 0.09
     assert found[("lower_arm", "joint_3")].half_width > 0.085
-
-
-def test_demo_seat_report_of_the_hand_made_regions(demo_robot):
-    rep = seat_report(demo_robot)
-    assert len(rep.rows) == sum(len(lk.regions) for lk in demo_robot.links)
-    assert all(r.rank == 6 and r.n_points >= MIN_SAMPLE_POINTS for r in rep.rows)
-    text = rep.text()
-    assert text.splitlines()[1].split()[:3] == ["link", "region", "points"]
-    assert len(text.splitlines()) == 2 + len(rep.rows)
 
 
 # ------------------------------------------------------------------------------ IRB 4600
