@@ -55,5 +55,9 @@ class Tolerances:
     #: with its neighbour so no reader's repair drops it.
     hollow_flat_face: float = 1e-7
 
+    #: Features of a united solid smaller than this times its size [-] are simplified
+    #: away (the nanometre gaps of pieces read from float32 files).
+    union_merge: float = 1e-6
+
 
 tol = Tolerances()

@@ -5,6 +5,7 @@ meshes next to the robot file, and a report of what came in and what is a placeh
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -59,13 +60,19 @@ class ImportedRobot:
         meshes = f"{n_meshed - n_derived} as published, {n_derived} derived"
         if n_hollow:
             meshes += f" ({n_hollow} hollowed)"
+        folders = {Path(lk.mesh).parent for lk in self.robot.links
+                   if lk.mesh is not None and (lk.name in self.derived or n_hollow)}
+        if n_derived and len(folders) == 1:
+            meshes += f" in {folders.pop()}"
         lines = [f"links: {', '.join(links)}; meshes: {meshes}",
                  f"joints: {', '.join(self.robot.joint_names)}", self._tool_line()]
         if self.hollowing is not None:
             lines += self.hollowing.text().splitlines()
         n_regions = sum(len(lk.regions) for lk in self.robot.links)
-        lines.append(f"bearing seats: {n_regions} regions found on the link CAD and written "
-                     f"out for review (`flexarm show-regions --robot {robot_file} -o DIR`)")
+        if n_regions:
+            lines.append(f"bearing seats: {n_regions} regions found on the link CAD and "
+                         f"written out for review (`flexarm show-regions --robot {robot_file} "
+                         "-o DIR`)")
         if self.placeholder_joints:
             lines.append(
                 f"placeholder stiffness (a URDF has none) on {', '.join(self.placeholder_joints)}"
@@ -139,7 +146,7 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
     robot = imported.robot
     solid = total_mass(robot, "surface")
     if regions:  # on the outer CAD: a shell's cavity would read as bores and faces
-        robot = detect_regions(robot)
+        robot = _seat_regions(robot)
     hollowing = None
     if wall is not None:
         robot, hollowing = hollow_links(robot, wall, mass_kg, derived_dir)
@@ -147,3 +154,30 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
         robot = with_total_mass(robot, mass_kg)
     return ImportedRobot(robot, solid, total_mass(robot, "surface"), imported.tool_frame,
                          imported.merged, imported.derived, hollowing)
+
+
+def _seat_regions(robot: Robot) -> Robot:
+    """``robot`` with its bearing seats found on the link CAD, or unchanged (one warning
+    naming the links) when some CAD is not a closed surface: a seat needs the solid's
+    outside, and a flexible model needs a closed surface anyway."""
+    from ..fe.errors import MeshError
+    from ..meshes import load_surface
+
+    open_cad = []
+    for lk in robot.links:
+        if lk.mesh is None:
+            continue
+        try:
+            load_surface(lk.mesh, units=lk.units)
+        except MeshError as exc:
+            open_cad.append(f"{lk.name} ({str(exc).rsplit(': ', 1)[-1]})")
+    if open_cad:
+        warnings.warn(f"no bearing seats looked for: the CAD of {', '.join(open_cad)} is not a "
+                      "closed surface, which flexible models need (URDF visual meshes often "
+                      "are open: import with --meshes collision)", stacklevel=3)
+        return robot
+    try:
+        return detect_regions(robot)
+    except ValueError as exc:  # the import stands; the seats are then set by hand
+        warnings.warn(f"bearing seats not found: {exc}", stacklevel=3)
+        return robot

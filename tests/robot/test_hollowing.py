@@ -33,7 +33,7 @@ def test_given_wall_gives_the_closed_form_shell_mass(tmp_path):
     robot = _boxes(tmp_path, {"base": (0.4, 0.3, 0.2), "arm": (0.6, 0.1, 0.1)})
     hollowed, report = hollow_links(robot, 0.01, out_dir=tmp_path / "shells")
     for row, (a, b, c) in zip(report.links, ((0.4, 0.3, 0.2), (0.6, 0.1, 0.1)), strict=True):
-        assert row.solid_mass == pytest.approx(STEEL.rho * a * b * c, rel=1e-6)  # STL stores float32
+        assert row.solid_mass == pytest.approx(STEEL.rho * a * b * c, rel=1e-6)  # float32 STL
         assert row.shell_mass == pytest.approx(STEEL.rho * _shell(a, b, c, 0.01), rel=1e-6)
         assert all(0 < r < 1 for r in row.bending) and not row.is_solid
     for old, new in zip(robot.links, hollowed.links, strict=True):

@@ -267,7 +267,7 @@ def _link(path: Path, tree: UrdfTree, body: str, members: list[str], T: dict, me
         if as_published is not None:
             mesh, units = as_published
     if pieces and mesh is None:
-        written = write_derived(merged_mesh(pieces, path), folder, body)
+        written = write_derived(merged_mesh(pieces, path, body), folder, body)
         mesh = written
     return Link(body, mesh, MATERIALS[material], units, tuple(lumped), {}), written
 

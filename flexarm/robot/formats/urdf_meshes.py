@@ -177,13 +177,13 @@ def _piece_mesh(piece: Piece, urdf: Path):
     return mesh
 
 
-def merged_mesh(pieces: list[Piece], urdf: Path):
-    """One ``trimesh.Trimesh`` [m] in the moving link's frame of all ``pieces`` (their
-    triangles side by side: pieces that overlap count twice in the volume)."""
-    import trimesh
+def merged_mesh(pieces: list[Piece], urdf: Path, link: str = "link"):
+    """One ``trimesh.Trimesh`` [m] in the moving link's frame of all ``pieces``: their
+    union when they are closed (overlaps count once, touching pieces share a face), else
+    their triangles side by side."""
+    from ...meshes.union import union
 
-    meshes = [_piece_mesh(p, urdf) for p in pieces]
-    return meshes[0] if len(meshes) == 1 else trimesh.util.concatenate(meshes)
+    return union([_piece_mesh(p, urdf) for p in pieces], f"links.{link}")
 
 
 def write_derived(mesh, folder: Path, link: str) -> Path:
