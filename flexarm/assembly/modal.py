@@ -43,11 +43,15 @@ class Modes:
         """(n,) angular frequencies [rad/s]."""
         return 2 * np.pi * self.freq_hz
 
-    def text(self, joint_names) -> str:
-        """Table: mode, frequency [Hz], damping ratio and the energy share per joint."""
+    def text(self, joint_names, n: int = 24) -> str:
+        """Table of the first ``n`` modes: frequency [Hz], damping ratio and the energy
+        share per joint; a last line says how many more there are."""
         lines = [f"{'mode':>4s} {'freq_Hz':>10s} {'zeta':>7s}  "
-                 + " ".join(f"{n[-7:]:>7s}" for n in joint_names)]
-        for r, f in enumerate(self.freq_hz):
+                 + " ".join(f"{name[-7:]:>7s}" for name in joint_names)]
+        for r, f in enumerate(self.freq_hz[:n]):
             shares = " ".join(f"{e:7.3f}" for e in self.energy[:, r])
             lines.append(f"{r + 1:4d} {f:10.3f} {self.damping[r]:7.4f}  {shares}")
+        if len(self.freq_hz) > n:
+            lines.append(f"... {len(self.freq_hz) - n} more modes up to "
+                         f"{self.freq_hz[-1]:.0f} Hz")
         return "\n".join(lines)

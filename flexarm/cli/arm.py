@@ -52,6 +52,7 @@ def _run_import_urdf(args) -> int:
 # --- modes -----------------------------------------------------------------------------
 def _add_modes(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS)
+    p.add_argument("-n", "--n-modes", type=int, default=24, help="modes to list")
     p.add_argument("-o", "--output", default=None, help="folder for the mode-energy PNG")
 
 
@@ -62,7 +63,7 @@ def _run_modes(args) -> int:
 
     arm = arm_from(args)
     md = modes(arm.model, pose_from(arm.robot, args))
-    out(md.text(arm.robot.joint_names))
+    out(md.text(arm.robot.joint_names, args.n_modes))
     if args.output:
         wrote([plot_mode_energy(os.path.join(args.output, "mode_energy.png"), md.freq_hz,
                                 md.energy, arm.robot.joint_names)])

@@ -39,7 +39,9 @@ def _run_build(args) -> int:
 # --- compare-models --------------------------------------------------------------------
 def _add_compare_models(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
-    p.add_argument("--poses", default="P1,P2,P3", help="comma-separated pose names")
+    p.add_argument("--poses", default="P1,P2,P3",
+                   help="pose names, comma-separated (P1,P2,P3), or poses in degrees "
+                        "separated by ';' (\"0,52,-19,12,-15,-11;home\")")
     add_flexible_args(p)
     p.add_argument("--no-full-fe", action="store_true", help="skip the full-FE reference")
     p.add_argument("-o", "--output", default="flexarm-compare", help="folder for CSV and PNG")
@@ -50,7 +52,8 @@ def _add_compare_models(p: argparse.ArgumentParser) -> None:
 def _run_compare_models(args) -> int:
     from ..studies.compare_models import compare_models
 
-    rep = compare_models(robot_from(args), names(args.poses), args.modes, args.coupling,
+    poses = [t.strip() for t in args.poses.split(";")] if ";" in args.poses else names(args.poses)
+    rep = compare_models(robot_from(args), poses, args.modes, args.coupling,
                          args.mesh_size, full_fe=not args.no_full_fe, out_dir=args.output,
                          progress=say)
     out(rep.text())
