@@ -99,8 +99,9 @@ def add_robot_args(p: argparse.ArgumentParser, models=("emodel",), pose: bool = 
     if flexible:
         add_flexible_args(p)
     if pose:
-        p.add_argument("--pose", default="P1",
-                       help="named pose of the robot file (P1, P2, P3) or q1,...,q6 [deg]")
+        p.add_argument("--pose", default=None,
+                       help="named pose of the robot file (P1, P2, P3) or q1,...,q6 [deg] "
+                            "(default: P1, else the robot's first named pose, else zeros)")
 
 
 def add_flexible_args(p: argparse.ArgumentParser) -> None:
@@ -139,9 +140,14 @@ def arm_from(args, robot=None, model: str | None = None):
 
 
 def pose_from(robot, args):
-    """(n,) joint angles [rad] of ``--pose``."""
+    """(n,) joint angles [rad] of ``--pose`` (default: ``P1``, else the robot's first named
+    pose, else all zeros; ``args.pose`` is set to the name used)."""
     from ..robot import pose_from_string
 
+    if args.pose is None:
+        args.pose = "P1" if "P1" in robot.poses else next(iter(robot.poses), None)
+        if args.pose is None:
+            args.pose = ",".join("0" for _ in robot.joints)
     return pose_from_string(robot, args.pose)
 
 
