@@ -31,7 +31,8 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
     p.add_argument("--effect", action="append", default=[],
                    help="hidden effect, e.g. backlash:j2=0.1mrad (repeatable)")
     p.add_argument("--noise", default="15um", help="tracker noise, e.g. 15um")
-    p.add_argument("--poses", default="P1,P2,P3", help="named poses")
+    p.add_argument("--poses", default="P1,P2,P3", help="named poses (P1,P2), or joint "
+                   "angles [deg] of each pose separated by ';' (0,52,-19,12,-15,-11;...)")
     p.add_argument("--loads", default="0:800:100", help="load levels [N] start:stop:step")
     p.add_argument("--dirs", default="x,y,z", help="load directions, e.g. x,y,z,-z")
     p.add_argument("--cycles", action="store_true", help="load then unload each series")

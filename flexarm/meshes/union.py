@@ -50,7 +50,10 @@ def union(meshes: Sequence[trimesh.Trimesh], name: str = "parts") -> trimesh.Tri
         if piece.status().name != "NoError":
             raise MeshError(f"{name}: manifold3d rejects a piece ({piece.status()})")
         solid = piece if solid is None else solid + piece
-    out = solid.to_mesh64()
+    size = float(max(np.ptp(m.vertices, axis=0).max() for m in meshes))
+    # pieces that touch tangentially (a cylinder grazing another's end face) leave
+    # sub-nanometre edges, which a later vertex merge would tear open: collapse them here
+    out = solid.simplify(tol.union_merge * size).to_mesh64()
     united = trimesh.Trimesh(np.array(out.vert_properties, dtype=np.float64)[:, :3],
                              np.array(out.tri_verts, dtype=np.int64), process=False)
     return _without_slivers(united, tol.union_merge * float(np.ptp(united.vertices, axis=0).max()))

@@ -25,7 +25,7 @@ from ..assembly.statics import relative_deflection
 from ..assembly.system import ArmModel
 from ..fe.files import atomic_path
 from ..fe.typing import ArrayLike, PathType
-from ..robot.description import Robot
+from ..robot.description import Robot, pose_from_string
 from ..robot.effects import Effect, parse_effect
 from .formats import write_modal, write_static
 from .measurements import ModalData, StaticData
@@ -196,10 +196,16 @@ class LabResult:
         return "\n".join(lines)
 
 
-def _names(poses: str | Sequence[str]) -> list[str]:
-    if not isinstance(poses, str):
-        return list(poses)
-    return [p.strip() for p in poses.split(",") if p.strip()]
+def lab_poses(robot: Robot, poses: str | Sequence[str]) -> dict:
+    """Pose label -> q [rad] of named poses (``"P1,P2"``) or of joint-angle sets in
+    degrees separated by ``;`` (``"0,52,-19,12,-15,-11;0,0,66,0,-66,0"``, labelled
+    ``Q1``, ``Q2``, ...), which an imported robot without named poses needs."""
+    if isinstance(poses, str):
+        if poses.strip()[:1] in set("0123456789+-."):  # names start with a letter
+            sets = [t for t in poses.split(";") if t.strip()]
+            return {f"Q{k + 1}": pose_from_string(robot, t) for k, t in enumerate(sets)}
+        poses = [p.strip() for p in poses.split(",") if p.strip()]
+    return {p: robot.pose(p) for p in poses}
 
 
 def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effect] = (),
@@ -225,7 +231,8 @@ def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effec
         Tracker noise and the extra error of each series' reference reading [m], or
         text like ``"15um"``.
     poses : str or sequence of str
-        Named poses of the robot (``"P1,P2,P3"``).
+        Named poses of the robot (``"P1,P2,P3"``), or joint-angle sets [deg] separated
+        by ``;`` (see :func:`lab_poses`).
     loads : str or (k,) float
         Load levels [N], ``"0:800:100"`` (start:stop:step) or ``"0,200,400"``.
     dirs : str or list
@@ -256,7 +263,7 @@ def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effec
     if any(e.kind == "links" for e in effects):
         options = replace(options, flexible=True)
     models = validation_models(robot, options, progress)
-    plan = LabPlan({p: robot.pose(p) for p in _names(poses)},
+    plan = LabPlan(lab_poses(robot, poses),
                    parse_loads(loads) if isinstance(loads, str) else np.asarray(loads, float),
                    parse_dirs(dirs) if isinstance(dirs, str) else list(dirs), cycles)
     data = virtual_lab(models.arm, plan, effects, noise, seed, models.flexible, ref_noise)

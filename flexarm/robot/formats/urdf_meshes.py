@@ -187,12 +187,16 @@ def merged_mesh(pieces: list[Piece], urdf: Path, link: str = "link"):
 
 
 def write_derived(mesh, folder: Path, link: str) -> Path:
-    """Write ``mesh`` as ``<folder>/<link>-<content hash>.stl`` (binary, metres) unless
-    that very file is there already; returns its path."""
-    data = mesh.export(file_type="stl")
+    """Write ``mesh`` as ``<folder>/<link>-<content hash>.ply`` (binary, metres) unless
+    that very file is there already; returns its path.
+
+    PLY keeps double-precision vertices and the shared-vertex topology: the union of
+    pieces that touch tangentially (a cylinder grazing another's end face) has vertices
+    closer than float32 resolves, and an STL of it comes back open."""
+    data = mesh.export(file_type="ply")
     digest = hashlib.sha256(data).hexdigest()
     stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", link)
-    path = Path(folder).resolve() / f"{stem}-{digest[:16]}.stl"  # links hold absolute paths
+    path = Path(folder).resolve() / f"{stem}-{digest[:16]}.ply"  # links hold absolute paths
     if path.is_file() and file_digest(path) == digest:
         log.info("link %s: reusing %s", link, path)
         return path

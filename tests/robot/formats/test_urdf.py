@@ -174,14 +174,14 @@ def multi(tmp_path):
     return path, expected
 
 
-def test_several_elements_with_origins_become_one_derived_stl(multi, tmp_path):
+def test_several_elements_with_origins_become_one_derived_mesh(multi, tmp_path):
     path, expected = multi
     out = tmp_path / "derived"
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         imp = urdf.load(path, meshes="visual", derived_dir=out)
     base, arm = imp.robot.links
-    assert base.mesh.parent == out and re.fullmatch(r"base-[0-9a-f]{16}\.stl", base.mesh.name)
+    assert base.mesh.parent == out and re.fullmatch(r"base-[0-9a-f]{16}\.ply", base.mesh.name)
     assert imp.derived == {"base": base.mesh} and base.units == "m" and base.regions == {}
     got = trimesh.load(base.mesh, force="mesh")
     np.testing.assert_allclose(got.bounds, expected.bounds, atol=1e-6)
@@ -414,7 +414,7 @@ def test_cli_import_writes_relocatable_toml(tmp_path, capsys):
     assert "flexarm diagnose" in lines[4] and "--apply" in lines[4]
     text = out.read_text()
     assert 'mesh = "../demo_pkg/meshes/base.stl"' in text
-    assert re.search(r'mesh = "robot_meshes/arm-[0-9a-f]{16}\.stl"', text)
+    assert re.search(r'mesh = "robot_meshes/arm-[0-9a-f]{16}\.ply"', text)
     shutil.move(tmp_path / "a", tmp_path / "b")
     back = robot_toml.read(tmp_path / "b" / "out" / "robot.toml")
     assert back.links[1].mesh.parent == tmp_path / "b" / "out" / "robot_meshes"
