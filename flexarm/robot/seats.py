@@ -235,6 +235,7 @@ def _add_tcp(robot: Robot, samples: dict, regions: dict, sides_of: dict, h: floa
                 r_from = max(r_from, other.r_max + f.margin)
         reg, mask = find_region(f, sample.points, ax, (s,), None, "rbe3", 1.0, r_from)
         check_seat(sample, mask)
+        _clear_of(reg, regions[ax.link], sample)
     except SeatNotFound as exc:
         warnings.warn(f"links.{robot.links[ax.link].name}: no flange face for a 'tcp' region "
                       f"({exc}); the TCP is carried rigidly by the flange seat", stacklevel=3)
@@ -267,8 +268,20 @@ def _add_base(robot: Robot, samples: dict, regions: dict, sides_of: dict, h: flo
         reg = Region(tuple(map(float, c)), tuple(map(float, a)), r_min,
                      float(p.r[face].max()) + margin,
                      0.5 * float(np.ptp(u[face])) + margin, "rbe2")
+        _clear_of(reg, regions[0], sample)
     except SeatNotFound as exc:
         warnings.warn(f"links.{robot.links[0].name}: no foundation face for a 'base' region "
                       f"({exc}); the base stays rigid", stacklevel=3)
         return
     regions[0]["base"] = reg
+
+
+def _clear_of(reg: Region, regions: dict, sample: SurfaceSample) -> None:
+    """Raise :class:`SeatNotFound` if ``reg`` shares CAD sample points with a joint seat
+    (a base plate thinner than the seats' margins): that seat wins."""
+    inside = reg.contains(sample.points)
+    for name, other in regions.items():
+        shared = int((inside & other.contains(sample.points)).sum())
+        if shared:
+            raise SeatNotFound(f"it would overlap the seat of {name} ({shared} shared CAD "
+                               f"sample points)")

@@ -264,3 +264,24 @@ def test_irb4600_builds_and_its_cb_arm_is_softer_than_the_emodel(irb):
     print("  E-model ", np.round(f_e[:6], 2))  # noqa: T201
     assert np.isfinite(f_cb).all() and (f_cb[:6] > 0).all()
     assert f_cb[0] <= f_e[0] * (1 + 1e-9)
+
+
+def test_foundation_face_inside_a_joint_seat_is_skipped_with_a_warning(primitive):
+    """A joint-1 seat given by hand that reaches down to the foundation face (a base
+    shorter than the seat): the 'base' region would share its nodes, so it is skipped with
+    a warning (the base stays rigid) and the given seat is kept, instead of an error."""
+    links = list(primitive.links)
+    given = Region((0.0, 0.0, 0.15), (0.0, 0.0, 1.0), 0.0, 0.16, 0.16)  # the whole base
+    links[0] = dataclasses.replace(links[0], regions={"joint_1": given})
+    robot = dataclasses.replace(primitive, links=tuple(links))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        found = detect_regions(robot)
+    messages = [str(w.message) for w in caught]
+    assert len(messages) == 1 and messages[0].startswith(
+        "links.base: no foundation face for a 'base' region (it would overlap the seat of "
+        "joint_1 (")
+    assert messages[0].endswith("the base stays rigid")
+    regions = _link_regions(found)
+    assert ("base", "base") not in regions and regions[("base", "joint_1")] == given
+    assert ("column", "joint_1") in regions
