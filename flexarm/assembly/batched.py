@@ -25,11 +25,15 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg as sla
 
+from ..fe.threads import one_blas_thread
 from ..fe.typing import ArrayLike, FloatArray
 from ..robot.joints import joint_basis
 from ..robot.kinematics import link_frames
 from .bodies import rigid_transport
 from .system import ArmModel, _joint_tcp_columns, rotation_blocks
+
+#: Poses per block of :func:`fast_tcp_compliance` (the block's TCP maps fit in cache).
+POSE_CHUNK = 512
 
 __all__ = [
     "has_constant_stiffness",
@@ -130,7 +134,7 @@ def tcp_map(arm: ArmModel, q: ArrayLike, compact: bool = False) -> FloatArray:
     exits = _exit_points(arm)
     c, tcp = exits[-1]
     r_tcp = _point_offset(arm.bodies[c].G(tcp), arm.bodies[c].node_positions[0])
-    p_tcp = np.einsum("...ij,j->...i", R[..., c, :, :], r_tcp) + t[..., c, :]
+    p_tcp = R[..., c, :, :] @ r_tcp + t[..., c, :]
     G = np.zeros(F.shape[:-3] + (6, n))
     if arm.foundation is not None:
         p0 = R[..., 0, :, :] @ arm.bodies[0].node_positions[0] + t[..., 0, :]
@@ -138,15 +142,37 @@ def tcp_map(arm: ArmModel, q: ArrayLike, compact: bool = False) -> FloatArray:
     _joint_tcp_columns(G, arm, c, R, t, p_tcp, [where[cols] for cols in lay["joint"]])
     for i, name in exits:
         Gi = arm.bodies[i].G(name)
-        cols = lay["body"][i]
         used = np.any(Gi[:, 6:] != 0, axis=0)
         if not np.any(used):
             continue
         r = _point_offset(Gi, arm.bodies[i].node_positions[0])
-        p = np.einsum("...ij,j->...i", R[..., i, :, :], r) + t[..., i, :]
-        R6 = rotation_blocks(R[..., i, :, :], 6, 1)
-        G[..., :, where[cols[used]]] += rigid_transport(p_tcp - p) @ R6 @ Gi[:, 6:][:, used]
+        Ri = R[..., i, :, :]
+        d = p_tcp - (_rotate(Ri, r[:, None])[..., 0] + t[..., i, :])
+        # [[I, -S(d)], [0, I]] blockdiag(R, R) [A; B] = [R A + (R B) x d; R B], column-wise:
+        # one GEMM over all poses for [A | B] instead of two (6, 6) products per pose
+        m = int(used.sum())
+        RAB = _rotate(Ri, np.hstack([Gi[:3, 6:][:, used], Gi[3:, 6:][:, used]]))
+        RA, RB = RAB[..., :m], RAB[..., m:]
+        cols = _as_slice(where[lay["body"][i][used]])
+        dx, dy, dz = (d[..., k, None] for k in range(3))
+        G[..., 0, cols] = RA[..., 0, :] + RB[..., 1, :] * dz - RB[..., 2, :] * dy
+        G[..., 1, cols] = RA[..., 1, :] + RB[..., 2, :] * dx - RB[..., 0, :] * dz
+        G[..., 2, cols] = RA[..., 2, :] + RB[..., 0, :] * dy - RB[..., 1, :] * dx
+        G[..., 3:, cols] = RB
     return G
+
+
+def _rotate(R: FloatArray, A: FloatArray) -> FloatArray:
+    """(..., 3, m) ``R @ A`` for a stack of rotations (..., 3, 3) and one (3, m): a single
+    GEMM over the stack (numpy's stacked matmul of small matrices does not reach BLAS)."""
+    return (R.reshape(-1, 3) @ A).reshape(R.shape[:-1] + A.shape[1:])
+
+
+def _as_slice(cols: np.ndarray):
+    """``cols`` as a slice when they are consecutive (a view instead of a gather)."""
+    if len(cols) and np.array_equal(cols, np.arange(cols[0], cols[0] + len(cols))):
+        return slice(int(cols[0]), int(cols[0]) + len(cols))
+    return cols
 
 
 def fast_tcp_compliance(arm: ArmModel, q: ArrayLike) -> FloatArray:
@@ -164,10 +190,28 @@ def fast_tcp_compliance(arm: ArmModel, q: ArrayLike) -> FloatArray:
         Ks = sla.cho_solve(sla.cho_factor(K), E)[s]
         return 0.5 * (Ks + Ks.T)
 
-    Ks = _cached(arm, "_tcp_flexibility", make)
-    G = tcp_map(arm, q, compact=True)
-    C = np.einsum("...ix,xy,...jy->...ij", G, Ks, G, optimize=True)
-    return 0.5 * (C + np.swapaxes(C, -1, -2))
+    L = _cached(arm, "_tcp_flexibility_factor", lambda: _psd_factor(_cached(
+        arm, "_tcp_flexibility", make)))
+    q = np.asarray(q, dtype=float)
+    flat = q.reshape(-1, q.shape[-1])
+    C = np.empty((len(flat), 6, 6))
+    with one_blas_thread():  # many small products: threads only add overhead
+        for start in range(0, len(flat), POSE_CHUNK):  # the (6, n_s) maps stay in cache
+            G = tcp_map(arm, flat[start:start + POSE_CHUNK], compact=True)
+            # C = (G L)(G L)^T: one GEMM for the chunk, symmetric by construction
+            H = (G.reshape(-1, G.shape[-1]) @ L).reshape(G.shape[:-1] + (L.shape[1],))
+            C[start:start + POSE_CHUNK] = H @ np.swapaxes(H, -1, -2)
+    return C.reshape(q.shape[:-1] + (6, 6))
+
+
+def _psd_factor(A: FloatArray) -> FloatArray:
+    """``L`` with ``A = L L^T`` for a symmetric positive semi-definite ``A`` (Cholesky, or
+    the eigen-decomposition's ``V sqrt(w)`` when ``A`` is singular to round-off)."""
+    try:
+        return np.linalg.cholesky(A)
+    except np.linalg.LinAlgError:
+        w, V = np.linalg.eigh(A)
+        return V * np.sqrt(np.clip(w, 0.0, None))
 
 
 def mass_matrix(arm: ArmModel, q: ArrayLike) -> FloatArray:

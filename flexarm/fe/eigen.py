@@ -19,6 +19,7 @@ from .block_eigen import block_shift_invert
 from .boundary import DofSplit
 from .errors import ConvergenceError
 from .solvers import Factor, factorize
+from .threads import one_blas_thread
 from .tolerances import tol
 
 __all__ = ["Modes", "modes", "shift_invert", "auto_shift", "stiffness_scale", "static_solve"]
@@ -103,17 +104,6 @@ def _normalise(omega2, vecs, M):
     return omega2, vecs * np.where(signs == 0, 1.0, signs)
 
 
-def _single_threaded_blas():
-    """Context limiting BLAS (OpenBLAS, MKL) to one thread; a no-op without threadpoolctl."""
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover - threadpoolctl is a declared dependency
-        import contextlib
-
-        return contextlib.nullcontext()
-    return threadpool_limits(1, user_api="blas")
-
-
 #: Eigensolver methods of :func:`shift_invert`.
 METHODS = ("block", "arpack")
 
@@ -181,7 +171,7 @@ def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: in
         # The Krylov vector work is BLAS on long vectors or thin blocks: on shared cores
         # threads only contend (ARPACK: 5.6 s -> 0.7 s on 14.6k DOF, 20 modes, 2 cores).
         # MKL, which runs PARDISO's solves, is limited with it (see benchmarks/README.md).
-        with _single_threaded_blas():
+        with one_blas_thread():
             if method == "block":
                 w, v, info = block_shift_invert(M, n, factor.solve, s, block_size=block_size,
                                                 basis_size=ncv, tol=tol.arpack)

@@ -51,6 +51,21 @@ def test_fast_path_equals_assembly(arm_and_robot):
     np.testing.assert_allclose(C0, C[0], rtol=1e-13, atol=1e-13 * np.abs(C0).max())
 
 
+def test_pose_blocks_and_batch_shapes(arm_and_robot):
+    """More poses than one block, in a (2, k) batch: every pose equals its own evaluation."""
+    from flexarm.assembly.batched import POSE_CHUNK
+
+    arm, robot = arm_and_robot
+    k = POSE_CHUNK + 7
+    Q = np.random.default_rng(6).uniform(robot.lower, robot.upper, (2, k, len(robot.lower)))
+    C = fast_tcp_compliance(arm, Q)
+    assert C.shape == (2, k, 6, 6)
+    for a, b in [(0, 0), (0, POSE_CHUNK), (1, k - 1)]:
+        ref = _assembled_compliance(arm, Q[a, b][None])[1][0]
+        assert np.abs(C[a, b] - ref).max() <= 1e-10 * np.abs(ref).max()
+    assert np.abs(C - np.swapaxes(C, -1, -2)).max() == 0.0  # symmetric by construction
+
+
 def test_frequencies_batched_equal_single_poses(arm_and_robot):
     arm, robot = arm_and_robot
     Q = np.random.default_rng(5).uniform(robot.lower, robot.upper, (3, 2, len(robot.lower)))
