@@ -11,15 +11,22 @@ truncated or edited file) is not trusted, it is removed and computed again.
 The root is ``$FLEXARM_CACHE`` if set, else ``~/.cache/flexarm``; deleting it is always
 safe.  Temporary ``.part`` files that a killed process left behind are swept away the
 next time an entry of the same kind is stored.
+
+Faults never stop a run: a damaged entry is reported in one warning line and rebuilt; a
+cache that cannot be written (read-only, full disk) gives one warning and the value is
+computed without caching.  Processes building the same key take turns (a lock file
+``<entry>.lock``): the second one reads what the first stored, so one key only ever has
+one value, even from a mesher that is not deterministic.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import cache
 from importlib import metadata
@@ -129,9 +136,13 @@ def _load_verified(path: Path, codec: Codec):
             raise ValueError("checksum missing or wrong (an interrupted or damaged write)")
         return codec.load(path)
     except Exception as exc:  # noqa: BLE001 - any failure to read means: compute again
-        log.warning("cache entry %s is damaged (%s): computing it again", path, exc)
-        path.unlink(missing_ok=True)
-        check.unlink(missing_ok=True)
+        reason = (str(exc).splitlines() or [type(exc).__name__])[0]
+        log.warning("cache entry %s is damaged (%s): removed, computing it again", path, reason)
+        try:
+            path.unlink(missing_ok=True)
+            check.unlink(missing_ok=True)
+        except OSError:  # a read-only cache: the entry is just not used
+            pass
         return None
 
 
@@ -191,13 +202,47 @@ def cached(kind: str, key: str, compute: Callable[[], Any], codec: Codec = JSON,
     """
     if not enabled:
         return Cached(compute(), None, False)
-    path = _entry_path(kind, key, codec)
-    value = _load_verified(path, codec)
-    if value is not None:
-        log.info("cache hit %s/%s", kind, path.name)
-        return Cached(value, path, True)
-    value = compute()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    _store(path, value, codec)
+    try:
+        path = _entry_path(kind, key, codec)
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        _warn_unwritable(exc, "")
+        return Cached(compute(), None, False)
+    with _key_lock(path):
+        value = _load_verified(path, codec)
+        if value is not None:
+            log.info("cache hit %s/%s", kind, path.name)
+            return Cached(value, path, True)
+        value = compute()
+        try:
+            _store(path, value, codec)
+        except OSError as exc:
+            _warn_unwritable(exc, path)
+            return Cached(value, None, False)
     log.info("cache stored %s/%s", kind, path.name)
     return Cached(value, path, False)
+
+
+def _warn_unwritable(exc: OSError, path) -> None:
+    where = exc.filename or path or os.environ.get("FLEXARM_CACHE", "~/.cache/flexarm")
+    log.warning("cannot write the cache (%s: %s): the result is used without caching",
+                where, exc.strerror or exc)
+
+
+@contextlib.contextmanager
+def _key_lock(path: Path) -> Iterator[None]:
+    """Hold an exclusive lock on ``<path>.lock`` (no lock where the cache is read-only or
+    the platform has no ``fcntl``: then concurrent writers of a key may both compute)."""
+    try:
+        import fcntl
+
+        handle = open(path.with_name(path.name + ".lock"), "a")  # noqa: SIM115 - held below
+    except (ImportError, OSError):
+        yield
+        return
+    with handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)

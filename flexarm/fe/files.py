@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import os
 import tempfile
@@ -16,8 +17,9 @@ __all__ = ["atomic_path", "file_digest", "digest"]
 def atomic_path(path, suffix: str | None = None) -> Iterator[Path]:
     """Yield a temporary path next to ``path``; move it into place only on success.
 
-    Nothing half-written is ever left at ``path``: on any exception the temporary
-    file is removed and ``path`` is untouched.
+    Nothing half-written is ever left at ``path``: on any exception (Ctrl-C included) the
+    temporary file is removed and ``path`` is untouched.  ``path`` naming an existing
+    folder raises :class:`IsADirectoryError` at once.
 
     Examples
     --------
@@ -29,6 +31,8 @@ def atomic_path(path, suffix: str | None = None) -> Iterator[Path]:
     'done'
     """
     path = Path(path)
+    if path.is_dir():  # found now, not by the final rename after all the work
+        raise IsADirectoryError(errno.EISDIR, "is a folder, not a file name", str(path))
     path.parent.mkdir(parents=True, exist_ok=True)
     suffix = path.suffix if suffix is None else suffix
     fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=f".part{suffix}", dir=path.parent)

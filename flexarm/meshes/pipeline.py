@@ -9,6 +9,7 @@ import numpy as np
 
 from ..fe.mesh import TetMesh
 from ..fe.typing import PathType
+from ..fe.units import length_factor
 from .gmsh_mesher import tetrahedralize_gmsh
 from .quality import QualityReport, mesh_quality
 from .surface import load_surface
@@ -84,6 +85,10 @@ def mesh_part(
         Including the volume error against the surface.
     """
     meshing = tetrahedralizer(mesher)
+    try:
+        length_factor(units)
+    except ValueError as exc:  # the file the unit belongs to, in the message
+        raise ValueError(f"{path}: {exc}") from None
     if progress is not None:
         progress(f"{path}: reading the surface (units={units})")
     surface = load_surface(path, units=units)

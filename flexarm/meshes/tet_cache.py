@@ -13,19 +13,32 @@ from collections.abc import Callable
 import numpy as np
 
 from ..fe.cache import Codec, cache_key, cached, lookup
+from ..fe.errors import MeshError
 from ..fe.mesh import TetMesh
 from ..fe.tolerances import tol as fe_tol
 from .formats import npz
 from .tolerances import tol
 
 __all__ = ["tet_cache_key", "mesher_key_parts", "TET_CODEC", "MESHERS", "MESHER_LIBRARY",
-           "cached_tetrahedralization", "cached_mesh"]
+           "cached_tetrahedralization", "cached_mesh", "estimated_tets", "check_mesh_request",
+           "MAX_TETS", "BYTES_PER_TET"]
 
 logger = logging.getLogger(__name__)
 
 #: The tetrahedralisers (``mesher=`` settings) and the PyPI package that does the work.
 MESHERS = ("tetwild", "gmsh")
 MESHER_LIBRARY = {"tetwild": "pytetwild", "gmsh": "gmsh"}
+#: Most tetrahedra a request may be estimated to give: more would not fit a workstation's
+#: memory in the mesher, let alone in the FE solve that follows.
+MAX_TETS = 2_000_000
+#: Peak mesher memory per tetrahedron [bytes] (pytetwild: 1.9 kB at 160,000 tetrahedra).
+BYTES_PER_TET = 2000
+#: Regular tetrahedra of edge h fill a volume V with 6 sqrt(2) V / h^3 elements (the
+#: meshers give 1.2 to 1.4 times this: the estimate is a lower bound).
+_TETS_PER_EDGE_CUBE = 6.0 * np.sqrt(2.0)
+#: An edge this many times the part's largest extent cannot describe it (a coarse mesh of
+#: a small flange, edge about its size, is still allowed): usually the units are wrong.
+_MAX_EDGE_OVER_PART = 2.0
 
 
 def _read_checked(path) -> TetMesh:
@@ -93,6 +106,51 @@ def mesher_key_parts(mesher: str, settings: tuple = ()) -> tuple:
             tuple(settings))
 
 
+def estimated_tets(volume: float, size: float) -> float:
+    """About how many tetrahedra of edge ``size`` [m] fill ``volume`` [m^3] (a lower bound).
+
+    Examples
+    --------
+    >>> round(estimated_tets(1e-3, 0.01))  # a litre at 10 mm
+    8485
+    """
+    return _TETS_PER_EDGE_CUBE * float(volume) / float(size) ** 3
+
+
+def check_mesh_request(surface, size: float, name: str) -> None:
+    """Refuse an edge length that cannot give a useful mesh of ``surface``, before meshing.
+
+    Raises
+    ------
+    MeshError
+        ``size`` [m] more than twice the part's largest extent (no element would
+        resolve it: often wrong units), or an estimated element count above
+        :data:`MAX_TETS` (the figure, the memory it would take and the smallest edge
+        length that fits).
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> check_mesh_request(trimesh.creation.box((0.1, 0.1, 0.1)), 0.01, "box")
+    >>> check_mesh_request(trimesh.creation.box((0.1, 0.1, 0.1)), 1e-5, "box")
+    Traceback (most recent call last):
+    ...
+    flexarm.fe.errors.MeshError: box: edge 1e-05 m on a part of 0.001 m^3 gives about ...
+    """
+    extent = float(np.max(surface.extents))
+    if size > _MAX_EDGE_OVER_PART * extent:
+        raise MeshError(f"{name}: edge {size:.4g} m is larger than the part ({extent:.4g} m "
+                        f"across): use a smaller edge, or check the units")
+    volume = abs(float(surface.volume))
+    n = estimated_tets(volume, size)
+    if n > MAX_TETS:
+        smallest = (_TETS_PER_EDGE_CUBE * volume / MAX_TETS) ** (1 / 3)
+        raise MeshError(f"{name}: edge {size:.4g} m on a part of {volume:.3g} m^3 gives about "
+                        f"{n:.2g} tetrahedra (limit {MAX_TETS:.0e}, about "
+                        f"{n * BYTES_PER_TET / 1e9:.2g} GB to mesh): use an edge of at least "
+                        f"{smallest:.2g} m, or check the units")
+
+
 def cached_mesh(key: str) -> TetMesh | None:
     """The cached mesh of ``key`` if there is a valid one (nothing is meshed)."""
     return lookup("tets", key, TET_CODEC)
@@ -119,6 +177,7 @@ def cached_tetrahedralization(
         raise ValueError(f"size must be a positive edge length [m], got {size}")
     if order not in (1, 2):
         raise ValueError(f"order must be 1 (Tet4) or 2 (Tet10), got {order}")
+    check_mesh_request(surface, size, name)
     report = progress or (lambda message: None)
     vertices = np.asarray(surface.vertices, dtype=np.float64)
     faces = np.asarray(surface.faces, dtype=np.int64)

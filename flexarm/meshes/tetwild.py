@@ -10,7 +10,9 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import signal
 import tempfile
+import threading
 import time
 from collections.abc import Callable, Iterator
 
@@ -62,7 +64,7 @@ def _run_tetwild(
     # The extension accepts only plain C-contiguous arrays (not trimesh's TrackedArray).
     v = np.array(vertices, dtype=np.float64, order="C")
     f = np.array(faces, dtype=np.int32, order="C")
-    with _in_temp_dir():
+    with _in_temp_dir(), _python_sigint():
         points, tets = pytetwild.tetrahedralize(
             v,
             f,
@@ -73,6 +75,24 @@ def _run_tetwild(
             quiet=True,
         )
     return np.asarray(points, dtype=np.float64), np.asarray(tets, dtype=np.int64)
+
+
+@contextlib.contextmanager
+def _python_sigint() -> Iterator[None]:
+    """Give Ctrl-C back to Python after the mesher.
+
+    fTetWild's first call installs its own SIGINT handler, which ends the process at once
+    and silently, and leaves it installed: every later Ctrl-C of the run (in a solve, in
+    a file write) would kill the process without a message or the clean-up of temporary
+    files.  During the call itself Ctrl-C still stops the process at once (the extension
+    holds the GIL, so Python could not act on it before the mesh is done).
+    """
+    handler = signal.getsignal(signal.SIGINT)
+    try:
+        yield
+    finally:
+        if handler is not None and threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGINT, handler)
 
 
 def _compact(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -30,6 +30,7 @@ __all__ = [
     "ModelOptions",
     "Robot",
     "pose_from_string",
+    "check_limits",
 ]
 
 _UNIT_TOL = 1e-6  # |axis| must be 1 to this (a description error, not round-off)
@@ -232,9 +233,10 @@ def validate(robot: Robot) -> None:
     if robot.options.mesher not in MESHERS:
         raise ValueError(f"model.mesher must be one of {', '.join(MESHERS)}, "
                          f"got '{robot.options.mesher}'")
+    _validate_options(robot.options)
     names = [lk.name for lk in robot.links]
-    if len(set(names)) != len(names):
-        raise ValueError(f"links: duplicate link names in {names}")
+    _validate_unique(names, "links")
+    _validate_unique([j.name for j in robot.joints], "joints")
     if len(robot.joints) != len(robot.links) - 1:
         raise ValueError(f"{len(robot.links)} links need {len(robot.links) - 1} joints, "
                          f"got {len(robot.joints)}")
@@ -246,6 +248,25 @@ def validate(robot: Robot) -> None:
     _validate_base_and_wrist(robot)
     _validate_poses(robot)
     _validate_effects(robot)
+
+
+def _validate_unique(names: list[str], what: str) -> None:
+    seen = set()
+    for name in names:
+        if name in seen:
+            raise ValueError(f"{what}: duplicate name '{name}' (names must be unique)")
+        seen.add(name)
+
+
+def _validate_options(opts: ModelOptions) -> None:
+    if opts.element_order not in (1, 2):
+        raise ValueError(f"model.element_order must be 1 (Tet4) or 2 (Tet10), "
+                         f"got {opts.element_order}")
+    if not (math.isfinite(opts.mesh_size) and opts.mesh_size > 0):
+        raise ValueError(f"model.mesh_size must be a positive edge length [m], "
+                         f"got {opts.mesh_size}")
+    if opts.cb_modes < 0:
+        raise ValueError(f"model.cb_modes must be >= 0, got {opts.cb_modes}")
 
 
 def _validate_link(lk: Link) -> None:
@@ -287,6 +308,9 @@ def _validate_joints(joints: tuple[Joint, ...], names: list[str]) -> None:
         _vec(jt.origin, 3, f"{key}.origin")
         if abs(np.linalg.norm(_vec(jt.axis, 3, f"{key}.axis")) - 1) > _UNIT_TOL:
             raise ValueError(f"{key}.axis must be a unit vector, got {list(jt.axis)}")
+        if not (math.isfinite(jt.lower) and math.isfinite(jt.upper)):
+            raise ValueError(f"{key}.limits must be finite, got [{math.degrees(jt.lower):g}, "
+                             f"{math.degrees(jt.upper):g}] deg")
         if not jt.lower < jt.upper:
             raise ValueError(f"{key}.limits reversed: lower {math.degrees(jt.lower):g} deg >= "
                              f"upper {math.degrees(jt.upper):g} deg")
@@ -335,6 +359,12 @@ def _validate_effects(robot: Robot) -> None:
         if e.kind not in NONLINEAR or e.joint is None or not 0 <= e.joint < len(robot.joints):
             raise ValueError(f"nonlinear: a robot carries joint laws of kind "
                              f"{'|'.join(NONLINEAR)} on one of its joints, got {e.label}")
+        for name, value in e.params:
+            # a negative dead band or radius has no physical meaning; the radius divides
+            if not (math.isfinite(value) and value >= 0) or (name == "radius" and value == 0):
+                raise ValueError(f"nonlinear.{robot.joints[e.joint].name}: {e.kind} {name} "
+                                 f"must be {'> 0' if name == 'radius' else '>= 0'}, "
+                                 f"got {value:g}")
 
 
 def pose_from_string(robot: Robot, text: str) -> FloatArray:
@@ -350,4 +380,26 @@ def pose_from_string(robot: Robot, text: str) -> FloatArray:
                          f"comma-separated angles in degrees, got '{text}'") from None
     if len(q) != len(robot.joints):
         raise ValueError(f"pose needs {len(robot.joints)} angles in degrees, got '{text}'")
+    check_limits(robot, q, f"pose '{text}'")
     return q
+
+
+def check_limits(robot: Robot, q, what: str = "pose") -> None:
+    """Raise ``ValueError`` naming the joint, its angle and limits [deg] if a joint angle of
+    ``q`` (n,) [rad] is not finite or lies outside the robot's limits.
+
+    Examples
+    --------
+    >>> from flexarm.robot import load_robot
+    >>> check_limits(load_robot(), np.radians([0, 260, 0, 0, 0, 0]))
+    Traceback (most recent call last):
+    ...
+    ValueError: pose: joint_2 = 260 deg is outside its limits [-90, 150] deg
+    """
+    q = np.asarray(q, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(q) | (q < robot.lower) | (q > robot.upper))
+    if bad.size:
+        j = int(bad[0])
+        raise ValueError(f"{what}: {robot.joints[j].name} = {math.degrees(q[j]):g} deg is "
+                         f"outside its limits [{math.degrees(robot.lower[j]):g}, "
+                         f"{math.degrees(robot.upper[j]):g}] deg")

@@ -97,3 +97,118 @@ def test_disabled_cache_neither_reads_nor_writes(root):
     compute, count = _calls()
     entry = cached("kind", "abc", compute, enabled=False)
     assert entry.path is None and not (root / "kind").exists() and len(count) == 1
+
+
+def _rewrite_with_checksum(path, data: bytes) -> None:
+    """Replace an entry by ``data`` with a matching checksum (a foreign or buggy writer)."""
+    from flexarm.fe.files import file_digest
+
+    path.write_bytes(data)
+    path.with_name(path.name + ".sha256").write_text(file_digest(path) + "\n")
+
+
+def test_broken_json_with_valid_checksum_is_reported_and_rebuilt(root, caplog):
+    compute, count = _calls()
+    first = cached("mass-properties", "abc", compute)
+    _rewrite_with_checksum(first.path, b'{"value": 42 "calls": 1}')
+    with caplog.at_level("WARNING", logger="flexarm.fe.cache"):
+        again = cached("mass-properties", "abc", compute)
+    assert not again.is_hit and again.value == {"value": 42, "calls": 2} and len(count) == 2
+    (record,) = caplog.records
+    assert str(first.path) in record.getMessage() and "\n" not in record.getMessage()
+    assert cached("mass-properties", "abc", compute).value == again.value
+
+
+def test_unwritable_cache_root_computes_without_caching(tmp_path, monkeypatch, caplog):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv("FLEXARM_CACHE", str(blocker / "cache"))
+    compute, count = _calls()
+    with caplog.at_level("WARNING", logger="flexarm.fe.cache"):
+        entry = cached("kind", "abc", compute)
+    assert entry.value["value"] == 42 and entry.path is None and not entry.is_hit
+    assert "without caching" in caplog.text and len(count) == 1
+
+
+def test_read_only_cache_on_a_miss_keeps_the_computed_value(root, monkeypatch, caplog):
+    import tempfile
+
+    def refuse(*args, dir=None, **kwargs):  # what a read-only folder does (root ignores modes)
+        raise PermissionError(13, "Permission denied", str(dir))
+
+    compute, count = _calls()
+    monkeypatch.setattr(tempfile, "mkstemp", refuse)
+    with caplog.at_level("WARNING", logger="flexarm.fe.cache"):
+        entry = cached("kind", "abc", compute)
+    assert entry.value == {"value": 42, "calls": 1} and entry.path is None
+    assert "Permission denied" in caplog.text and "without caching" in caplog.text
+    assert not (root / "kind" / "abc.json").exists()
+    monkeypatch.undo()
+    monkeypatch.setenv("FLEXARM_CACHE", str(root))
+    assert not cached("kind", "abc", compute).is_hit and len(count) == 2
+
+
+def test_concurrent_builds_of_one_key_give_one_value(root):
+    import threading
+
+    results, started = [], []
+
+    def compute():  # a non-deterministic builder: each call gives a new value
+        started.append(1)
+        time.sleep(0.2)
+        return {"build": len(started)}
+
+    threads = [threading.Thread(target=lambda: results.append(cached("kind", "abc", compute)))
+               for _ in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(started) == 1 and [r.value for r in results] == [{"build": 1}] * 3
+    assert sorted(r.is_hit for r in results) == [False, True, True]
+
+
+def _matrix_codec(kind: str):
+    """A stiffness matrix stored as HDF5 or .npy, as the superelement cache stores its K."""
+    if kind == "h5":
+        h5py = pytest.importorskip("h5py")
+
+        def save(path, K):
+            with h5py.File(path, "w") as f:
+                f["K"] = K
+
+        def load(path):
+            with h5py.File(path, "r") as f:
+                return f["K"][()]
+
+        return cache.Codec(".h5", save, load)
+    return cache.Codec(".npy", lambda path, K: np.save(path, K), np.load)
+
+
+@pytest.mark.parametrize("kind", ["h5", "npy"])
+@pytest.mark.parametrize("damage", ["truncate", "truncate-foreign", "mantissa-bit"])
+def test_damaged_matrix_heals_to_exactly_a_clean_build(root, kind, damage):
+    from flexarm.fe.files import file_digest
+
+    K = np.random.default_rng(3).normal(size=(40, 40))
+    K = K @ K.T
+    codec, calls = _matrix_codec(kind), []
+
+    def build():
+        calls.append(1)
+        return K.copy()
+
+    path = cached("superelements", "k", build, codec).path
+    data = bytearray(path.read_bytes())
+    if damage == "mantissa-bit":  # the lowest mantissa bit of K[0, 0], found by its bytes
+        at = bytes(data).index(K[0, 0].tobytes())
+        data[at] ^= 1
+        path.write_bytes(bytes(data))
+    else:
+        path.write_bytes(bytes(data[: len(data) // 3]))
+        if damage == "truncate-foreign":  # a writer that vouches for its broken file
+            path.with_name(path.name + ".sha256").write_text(file_digest(path))
+    healed = cached("superelements", "k", build, codec)
+    assert not healed.is_hit and len(calls) == 2
+    assert healed.value.tobytes() == K.tobytes()
+    assert cached("superelements", "k", build, codec).is_hit

@@ -142,3 +142,17 @@ def test_corrupt_cache_entry_is_replaced(monkeypatch, private_cache):
 def test_bad_arguments(size, order, match):
     with pytest.raises(ValueError, match=match):
         tetrahedralize(bar_surface(1, 1, 1), size, order=order, cache=False)
+
+
+def test_ctrl_c_after_meshing_is_a_keyboard_interrupt(bar):
+    """The mesher's own SIGINT handler (exit at once, silently) does not outlive the call."""
+    import os
+    import signal
+    import time
+
+    from flexarm.meshes.tetwild import _run_tetwild
+
+    _run_tetwild(bar.vertices, bar.faces, 0.05, True)
+    with pytest.raises(KeyboardInterrupt):
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(5)  # the interrupt arrives during the sleep; a killed run fails the suite

@@ -350,7 +350,8 @@ def test_bad_numbers(csv, value, message):
     rows = edit(STATIC_HEADER, STATIC_ROWS, 4, "dy_mm", value)
     path = csv(render(STATIC_HEADER, rows))
     if message is None:  # a decimal comma makes one field too many
-        message = "15 fields, expected 14 as in the header (line 2)"
+        message = ("15 fields, expected 14 as in the header (line 2); decimal commas? write 1.5, "
+                   "not 1,5 (and quote a label holding a comma)")
         with raises(path, f"line 7: {message}"):
             read_measurements(path)
         return

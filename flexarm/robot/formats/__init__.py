@@ -3,8 +3,10 @@ TOML (read and write, :mod:`~flexarm.robot.formats.toml`) and URDF (read,
 :mod:`~flexarm.robot.formats.urdf`).  RAPID programs (:mod:`~flexarm.robot.formats.rapid`)
 describe paths, not robots."""
 
+from ...fe.errors import ReadError
 from ...fe.formats import FormatRegistry
 from . import toml, urdf
+from .link_units import check_link_units
 
 #: The robot description formats (:class:`~flexarm.fe.formats.FormatRegistry`).
 registry = FormatRegistry("robot description")
@@ -15,7 +17,9 @@ registry.register("urdf", (".urdf",), urdf.read)
 def read(path, **options):
     """Read a robot description; the format follows the extension (``.toml``, ``.urdf``).
 
-    ``options`` go to the format's reader (URDF: ``meshes="collision"|"visual"``).
+    ``options`` go to the format's reader (URDF: ``meshes="collision"|"visual"``).  Each
+    link's CAD units are checked against the joints it carries
+    (:func:`~flexarm.robot.formats.link_units.check_link_units`).
 
     Examples
     --------
@@ -23,7 +27,12 @@ def read(path, **options):
     >>> read(demo_robot_path()).name
     'flexarm demo arm (IRB 4600-60/2.05 class)'
     """
-    return registry.read(path, **options)
+    robot = registry.read(path, **options)
+    try:
+        check_link_units(robot)
+    except ValueError as exc:
+        raise ReadError(f"{path}: {exc}") from None
+    return robot
 
 
 def write(path, robot, **options):

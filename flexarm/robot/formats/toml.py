@@ -12,6 +12,7 @@ Every error names the file, the key and the value.
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 import re
@@ -44,12 +45,42 @@ _MODEL_KEYS = {"torsion", "tilt", "tilt2", "radial", "axial", "damping_ratio", "
 _JOINT_KEYS = {"name", "parent", "child", "origin", "rpy_deg", "axis", "limits_deg",
                "gear_ratio", "model", "emodel"}
 _LINK_KEYS = {"name", "mesh", "units", "material", "lumped", "regions"}
+_TOP_KEYS = {"format_version", "name", "model", "base", "tool", "poses", "wrist", "links",
+             "joints", "nonlinear"}
+_OPTION_KEYS = {"element_order", "mesh_size", "cb_modes", "mesher"}
+_BASE_KEYS = {"support", "stiffness", "damping_ratio"}
+_TOOL_KEYS = {"xyz", "rpy_deg", "link"}
+_WRIST_KEYS = {"coupling", "stiffness"}
+_LUMPED_KEYS = {"name", "mass", "position", "inertia"}
+_REGION_KEYS = {"center", "axis", "r_min", "r_max", "half_width", "coupling"}
+_MATERIAL_KEYS = {"E", "nu", "rho", "name"}
 
 
 def _check_keys(table: dict, allowed: set, where: str) -> None:
+    """A misspelt key is an error (a dropped one would silently change the model)."""
     extra = sorted(set(table) - allowed)
     if extra:
-        raise ValueError(f"{where}: unknown key '{extra[0]}' (allowed: {sorted(allowed)})")
+        near = difflib.get_close_matches(extra[0], sorted(allowed), n=1, cutoff=0.6)
+        hint = f"did you mean '{near[0]}'?" if near else f"allowed: {sorted(allowed)}"
+        raise ValueError(f"{where}: unknown key '{extra[0]}' ({hint})")
+
+
+def _table(data: dict, key: str, where: str, allowed: set | None = None) -> dict:
+    """The table ``data[key]`` (empty when absent), its keys checked against ``allowed``."""
+    value = data.get(key, {})
+    if not isinstance(value, dict):
+        raise ValueError(f"{where}{key} must be a table, got {value!r}")
+    if allowed is not None:
+        _check_keys(value, allowed, f"{where}{key}")
+    return value
+
+
+def _tables(data: dict, key: str, where: str = "") -> list[dict]:
+    """The array of tables ``[[key]]`` (empty when absent)."""
+    value = data.get(key, [])
+    if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+        raise ValueError(f"{where}{key} must be an array of tables ([[{key}]]), got {value!r}")
+    return value
 
 
 def _stiff(value, key: str) -> float:
@@ -65,6 +96,7 @@ def _stiff(value, key: str) -> float:
 
 def _material(value, key: str) -> Material:
     if isinstance(value, dict):
+        _check_keys(value, _MATERIAL_KEYS, key)
         try:
             return Material(float(value["E"]), float(value["nu"]), float(value["rho"]),
                             str(value.get("name", "custom")))
@@ -99,8 +131,11 @@ def _link(d: dict, folder: Path) -> Link:
         if not mesh_path.is_file():
             raise ValueError(f"{key}.mesh: file not found: '{mesh}' (looked in {mesh_path})")
     lumped = []
-    for m in d.get("lumped", []):
+    for m in _tables(d, "lumped", f"{key}."):
         mkey = f"{key}.lumped.{m.get('name', '?')}"
+        _check_keys(m, _LUMPED_KEYS, mkey)
+        if "mass" not in m:
+            raise ValueError(f"{mkey}.mass is required [kg]")
         mass = float(m["mass"])
         if not mass >= 0:
             raise ValueError(f"{mkey}.mass must be >= 0 kg, got {m['mass']}")
@@ -108,8 +143,11 @@ def _link(d: dict, folder: Path) -> Link:
                                  tuple(float(v) for v in m.get("position", (0, 0, 0))),
                                  _inertia(m.get("inertia", [0, 0, 0]), f"{mkey}.inertia")))
     regions = {}
-    for rname, r in d.get("regions", {}).items():
+    for rname, r in _table(d, "regions", f"{key}.").items():
         rkey = f"{key}.regions.{rname}"
+        if not isinstance(r, dict):
+            raise ValueError(f"{rkey} must be a table, got {r!r}")
+        _check_keys(r, _REGION_KEYS, rkey)
         try:
             regions[rname] = Region(
                 tuple(float(v) for v in r["center"]), tuple(float(v) for v in r["axis"]),
@@ -178,6 +216,8 @@ def _nonlinear_effects(table: dict, joint_names: list[str]) -> tuple[Effect, ...
         where = f"nonlinear.{jname}"
         if jname not in joint_names:
             raise ValueError(f"{where}: no such joint (have {joint_names})")
+        if not isinstance(d, dict):
+            raise ValueError(f"{where} must be a table, got {d!r}")
         _check_keys(d, allowed, where)
         for kind, keys in _NONLINEAR_KEYS.items():
             if keys[0][0] not in d:
@@ -205,7 +245,8 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
     if version != FORMAT_VERSION:
         raise ValueError(f"format_version: cannot read version {version} "
                          f"(this flexarm reads {FORMAT_VERSION})")
-    b = data.get("base", {})
+    _check_keys(data, _TOP_KEYS, "top level")
+    b = _table(data, "base", "", _BASE_KEYS)
     kind = str(b.get("support", "clamped"))
     Kb = None
     if "stiffness" in b:
@@ -214,14 +255,19 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
         if np.any(np.diag(Kb) < 0):
             raise ValueError(f"base.stiffness: negative stiffness {np.diag(Kb).min():g}")
         Kb = tuple(map(tuple, Kb.tolist()))
-    t = data.get("tool", {})
-    opts = data.get("model", {})
-    w = data.get("wrist", {})
-    poses = {k: [math.radians(float(a)) for a in v] for k, v in data.get("poses", {}).items()}
+    t = _table(data, "tool", "", _TOOL_KEYS)
+    opts = _table(data, "model", "", _OPTION_KEYS)
+    w = _table(data, "wrist", "", _WRIST_KEYS)
+    poses = {k: _angles(v, f"poses.{k}") for k, v in _table(data, "poses", "").items()}
+    joints = _tables(data, "joints")
+    joint_names = [str(d.get("name", "")) for d in joints]
+    twice = [n for i, n in enumerate(joint_names) if n in joint_names[:i]]
+    if twice:  # before [nonlinear] is matched to the joints by name
+        raise ValueError(f"joints: duplicate name '{twice[0]}' (names must be unique)")
     return Robot(
         name=str(data.get("name", "robot")),
-        links=tuple(_link(d, folder) for d in data.get("links", [])),
-        joints=tuple(_joint(d) for d in data.get("joints", [])),
+        links=tuple(_link(d, folder) for d in _tables(data, "links")),
+        joints=tuple(_joint(d) for d in joints),
         base=BaseSupport(kind, Kb, float(b.get("damping_ratio", 0.02))),
         tool=Tool(tuple(float(v) for v in t.get("xyz", (0, 0, 0))),
                   tuple(math.radians(float(v)) for v in t.get("rpy_deg", (0, 0, 0))),
@@ -233,9 +279,15 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
         wrist_coupling=tuple(map(tuple, w["coupling"])) if "coupling" in w else None,
         wrist_stiffness=tuple(map(tuple, w["stiffness"])) if "stiffness" in w else None,
         source=source,
-        effects=_nonlinear_effects(data.get("nonlinear", {}),
-                                   [str(d.get("name", "")) for d in data.get("joints", [])]),
+        effects=_nonlinear_effects(_table(data, "nonlinear", ""), joint_names),
     )
+
+
+def _angles(value, key: str) -> list[float]:
+    """Joint angles [rad] of a list of degrees."""
+    if not isinstance(value, list) or not all(isinstance(a, int | float) for a in value):
+        raise ValueError(f"{key} must be a list of joint angles in degrees, got {value!r}")
+    return [math.radians(float(a)) for a in value]
 
 
 def read(path) -> Robot:
@@ -255,9 +307,13 @@ def read(path) -> Robot:
         raise
     except tomllib.TOMLDecodeError as exc:
         raise ReadError(f"{path}: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise ReadError(f"{path}: not a UTF-8 text file ({exc.reason} at byte {exc.start})") \
+            from None
     try:
         return from_dict(data, path.parent, source=path.resolve())
-    except (ValueError, KeyError, TypeError) as exc:
+    except (ValueError, KeyError, TypeError, AttributeError, IndexError) as exc:
+        # a value of the wrong shape (a number where a list belongs, ...) in a user file
         raise ReadError(f"{path}: {exc}") from None
 
 

@@ -33,6 +33,11 @@ from ..units import (
 __all__ = ["MeasurementFileError", "Field", "Schema", "Table", "read_table", "write_table",
            "label_problem", "joints", "vector"]
 
+#: Largest magnitude [SI] a measured value of each quantity may have: beyond it the unit
+#: or the export is wrong (1e300 mm, a force in mN read as N), and the analysis would
+#: turn it into overflow.  Angles: two turns.
+PLAUSIBLE = {"length": 100.0, "force": 1e7, "moment": 1e7, "angle": 4 * np.pi,
+             "frequency": 1e6}
 _INT = re.compile(r"[+-]?[0-9]+")
 _REAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 
@@ -163,8 +168,10 @@ class Table:
         Known base name -> :class:`Column`.
     unknown : tuple of str
         Header names that no measurement kind knows.
-    rows : list of list of str
-        Stripped fields of each data row.
+    cells : tuple of str
+        Stripped fields of the data rows, one string per header column with its cells
+        joined by newlines (which no cell holds): a million rows as Python strings
+        would take gigabytes.
     lines : (n,) int
         Line number of each data row.
     """
@@ -174,7 +181,7 @@ class Table:
     names: tuple[str, ...]
     columns: dict[str, Column]
     unknown: tuple[str, ...]
-    rows: list[list[str]]
+    cells: tuple[str, ...]
     lines: IntArray
 
     def error(self, row: int | None, base: str | None, message: str) -> MeasurementFileError:
@@ -186,7 +193,7 @@ class Table:
 
     def text(self, row: int, base: str) -> str:
         """The cell of data row ``row`` in column ``base``, as written."""
-        return self.rows[row][self.columns[base].index]
+        return self.cells[self.columns[base].index].split("\n")[row]  # error paths only
 
     def require(self, schema: Schema, guessed: bool = False) -> None:
         """Raise unless the header has all required and only known columns of ``schema``."""
@@ -226,18 +233,68 @@ class Table:
 
     def _convert(self, field: Field) -> tuple[np.ndarray, tuple[int, str] | None]:
         j = self.columns[field.base].index
-        texts = [r[j] for r in self.rows]
-        for i, t in enumerate(texts):
+        texts = self.cells[j].split("\n")
+        values = _reals(texts, self.columns[field.base].factor) if field.type == "real" else None
+        for i, t in enumerate(texts if values is None else ()):
             problem = _cell_problem(field.type, t)
             if problem is not None:
                 return np.zeros(0), (i, problem)
         if field.type == "real":
-            return parse_values(texts, self.columns[field.base].factor), None
+            values = parse_values(texts, self.columns[field.base].factor) if values is None \
+                else values
+            bound = PLAUSIBLE.get(field.quantity)
+            big = np.flatnonzero(np.abs(values) > bound) if bound is not None else ()
+            if len(big):
+                i, column = int(big[0]), self.columns[field.base]
+                limit, unit = bound / float(column.factor), split_column(column.name)[1]
+                return values, (i, f"{texts[i]} is not a plausible {field.quantity} (more "
+                                   f"than {limit:.4g} {unit}): is the unit in the header "
+                                   f"right?")
+            return values, None
         if field.type == "int":
             return np.array([int(t) for t in texts], dtype=np.int64), None
         if field.type == "direction":
             return np.array([t.lower() for t in texts], dtype=np.str_), None
         return np.array(texts, dtype=np.str_), None
+
+
+def _reals(texts: list[str], factor: Fraction) -> np.ndarray | None:
+    """:func:`~flexarm.validation.units.parse_values` of a column whose every cell is a
+    plain finite decimal, vectorised (bit for bit the same values); None when a cell is not
+    (then the cells are checked one by one for the message).
+
+    ``float`` reads the same ASCII decimals as the schema (no ``_``), plus nan and inf,
+    which the finiteness test rejects.  Scaling by a power of ten is exact when written
+    into the exponent (``"0.081e-3"``: one rounding); other units go through the exact
+    parser once per distinct text (joint angles repeat within a series).
+    """
+    joined = "\n".join(texts)
+    if not joined.isascii() or "_" in joined or "" in texts:
+        return None
+    try:
+        plain = np.array(texts, dtype=np.float64)
+    except ValueError:
+        return None
+    if not np.all(np.isfinite(plain)):
+        return None
+    if factor == 1:
+        return plain
+    shift = _decimal_shift(factor)
+    if shift is not None and "e" not in joined and "E" not in joined:
+        suffix = f"e{shift}"
+        shifted = (suffix + "\n").join(texts) + suffix
+        # + 0.0: the exact parser reads "-0" as 0 (a Fraction has no signed zero)
+        return np.array(shifted.split("\n"), dtype=np.float64) + 0.0
+    distinct, inverse = np.unique(np.array(texts, dtype=np.str_), return_inverse=True)
+    return parse_values(distinct.tolist(), factor)[inverse.ravel()]
+
+
+def _decimal_shift(factor: Fraction) -> int | None:
+    """``k`` if ``factor`` is ``10**k`` (mm: -3, kN: 3), else None."""
+    for k in range(-9, 10):
+        if factor == Fraction(10) ** k:
+            return k
+    return None
 
 
 def _cell_problem(kind: str, text: str) -> str | None:
@@ -258,23 +315,33 @@ def _cell_problem(kind: str, text: str) -> str | None:
     return None
 
 
-def _lines(path: Path, source: str):
-    """(line number, stripped fields) of every non-comment, non-blank line."""
+def _records(path: Path, source: str) -> tuple[list[int], list[str]]:
+    """Line numbers and stripped text of every non-comment, non-blank line."""
     try:
         text = path.read_text(encoding="utf-8-sig")
     except UnicodeDecodeError as exc:
         raise MeasurementFileError(f"{source}: not a UTF-8 text file ({exc.reason} at byte "
                                    f"{exc.start})", source) from None
-    for number, line in enumerate(text.splitlines(), start=1):
+    numbers, records, lines = [], [], text.splitlines()
+    del text
+    for number, line in enumerate(lines, start=1):
         stripped = line.strip()
-        if not stripped or stripped.startswith("#"):
-            continue
-        try:
-            fields = next(csv.reader([stripped], skipinitialspace=True, strict=True))
-        except csv.Error as exc:
-            raise MeasurementFileError(f"{source}, line {number}: malformed CSV ({exc})",
-                                       source, number) from None
-        yield number, [f.strip() for f in fields]
+        if stripped and not stripped.startswith("#"):
+            numbers.append(number)
+            records.append(stripped)
+    return numbers, records
+
+
+def _fields(record: str, number: int, source: str) -> list[str]:
+    """The stripped fields of one line (``"..."`` quotes a field holding a comma)."""
+    if '"' not in record:  # what the csv module would do, without its cost
+        return [f.strip() for f in record.split(",")]
+    try:
+        fields = next(csv.reader([record], skipinitialspace=True, strict=True))
+    except csv.Error as exc:
+        raise MeasurementFileError(f"{source}, line {number}: malformed CSV ({exc})",
+                                   source, number) from None
+    return [f.strip() for f in fields]
 
 
 def _header(names: list[str], line: int, source: str, vocabulary: dict[str, Field]):
@@ -334,26 +401,63 @@ def read_table(path: PathType, vocabulary: dict[str, Field]) -> Table:
     """
     path = Path(path)
     source = str(path)
-    lines = _lines(path, source)
-    try:
-        header_line, names = next(lines)
-    except StopIteration:
+    numbers, records = _records(path, source)
+    if not records:
         raise MeasurementFileError(f"{source}: no header row (the file is empty or only "
-                                   "holds comments)", source) from None
+                                   "holds comments)", source)
+    header_line, names = numbers[0], _fields(records[0], numbers[0], source)
+    separator = next((c for c in ";\t" if len(names) == 1 and c in names[0]), None)
+    if separator is not None:
+        raise MeasurementFileError(
+            f"{source}, line {header_line}: the fields are separated by {separator!r}; "
+            f"flexarm reads comma-separated files with '.' decimals (export as CSV with ',' "
+            f"separators)", source, header_line)
     columns, unknown = _header(names, header_line, source, vocabulary)
-    rows, numbers = [], []
-    for number, fields in lines:
-        if len(fields) != len(names):
-            raise MeasurementFileError(
-                f"{source}, line {number}: {len(fields)} fields, expected {len(names)} as in "
-                f"the header (line {header_line})", source, number)
-        rows.append(fields)
-        numbers.append(number)
-    if not rows:
+    if len(records) == 1:
         raise MeasurementFileError(f"{source}, line {header_line}: no data rows after the "
                                    "header", source, header_line)
-    return Table(source, header_line, tuple(names), columns, unknown, rows,
+    del records[0], numbers[0]
+    cells = _column_texts(records, numbers, len(names), header_line, source)
+    return Table(source, header_line, tuple(names), columns, unknown, cells,
                  np.array(numbers, dtype=np.int64))
+
+
+#: Lines split at a time (their fields exist as Python strings only chunk by chunk).
+_CHUNK_ROWS = 65536
+#: A comma with the blanks around it (never a line break: lines are joined by them).
+_SEPARATOR = re.compile(r"[^\S\n]*,[^\S\n]*")
+
+
+def _column_texts(records: list[str], numbers: list[int], n: int, header_line: int,
+                  source: str) -> tuple[str, ...]:
+    """Each column's fields joined by newlines; a line with other than ``n`` fields raises.
+    ``records`` is emptied as it goes."""
+    def check(count: int, k: int) -> None:
+        if count != n:
+            hint = ("; decimal commas? write 1.5, not 1,5 (and quote a label holding a "
+                    "comma)" if count > n else "")
+            raise MeasurementFileError(
+                f"{source}, line {numbers[k]}: {count} fields, expected {n} as in the header "
+                f"(line {header_line}){hint}", source, numbers[k])
+
+    parts: list[list[str]] = [[] for _ in range(n)]
+    for start in range(0, len(records), _CHUNK_ROWS):
+        chunk = records[start:start + _CHUNK_ROWS]
+        block = "\n".join(chunk)
+        if '"' in block:  # quoted fields: the csv module, line by line
+            fields = []
+            for k, record in enumerate(chunk, start=start):
+                row = _fields(record, numbers[k], source)
+                check(len(row), k)
+                fields += row
+        else:  # split the whole chunk at once
+            for k, record in enumerate(chunk, start=start):
+                check(record.count(",") + 1, k)
+            fields = _SEPARATOR.sub(",", block).replace("\n", ",").split(",")
+        for j in range(n):
+            parts[j].append("\n".join(fields[j::n]))
+        records[start:start + len(chunk)] = [""] * len(chunk)  # done: free the line texts
+    return tuple("\n".join(p) for p in parts)
 
 
 def write_table(path: PathType, schema: Schema, values: dict[str, np.ndarray],

@@ -183,9 +183,7 @@ def test_optional_tables_are_left_out():
     (lambda d: d["nonlinear"]["j3"].pop("hysteresis_radius_Nm"),
      "nonlinear.j3.hysteresis_radius_Nm is required with hysteresis_lost_rad"),
     (lambda d: d["nonlinear"]["j2"].update(backlash_deg=0.1),
-     "nonlinear.j2: unknown key 'backlash_deg' (allowed: ['backlash_rad', "
-     "'hardening_extra_rad_per_Nm', 'hardening_threshold_Nm', 'hysteresis_lost_rad', "
-     "'hysteresis_radius_Nm'])"),
+     "nonlinear.j2: unknown key 'backlash_deg' (did you mean 'backlash_rad'?)"),
     (lambda d: d["links"][1]["material"].pop("rho"),
      "links.l1.material needs E, nu and rho, missing 'rho'"),
     (lambda d: d["links"][1]["lumped"][0].update(inertia=[1.0, 2.0]),
@@ -204,6 +202,45 @@ def test_optional_tables_are_left_out():
     (lambda d: d["joints"][2].pop("origin"), "joints.j3.origin is required"),
     (lambda d: d["base"].update(stiffness=[1e9] * 5 + [-1.0]),
      "base.stiffness: negative stiffness -1"),
+    # a table or key that would be dropped silently changes the model: all are errors
+    (lambda d: d.update(tol=d.pop("tool")), "top level: unknown key 'tol' (did you mean 'tool'?)"),
+    (lambda d: d.update(robot_name="x"),
+     "top level: unknown key 'robot_name' (allowed: ['base', 'format_version', 'joints', "
+     "'links', 'model', 'name', 'nonlinear', 'poses', 'tool', 'wrist'])"),
+    (lambda d: d["wrist"].update(couplng=d["wrist"].pop("coupling")),
+     "wrist: unknown key 'couplng' (did you mean 'coupling'?)"),
+    (lambda d: d["model"].update(mesh_siz=0.01), "model: unknown key 'mesh_siz' (did you mean "
+     "'mesh_size'?)"),
+    (lambda d: d["base"].update(suport="spring"),
+     "base: unknown key 'suport' (did you mean 'support'?)"),
+    (lambda d: d["tool"].update(rpy=[0, 0, 0]), "tool: unknown key 'rpy' (did you mean "
+     "'rpy_deg'?)"),
+    (lambda d: d["links"][1]["lumped"][0].update(mas=1.0),
+     "links.l1.lumped.motor: unknown key 'mas' (did you mean 'mass'?)"),
+    (lambda d: d["links"][1]["regions"]["j1"].update(halfwidth=0.1),
+     "links.l1.regions.j1: unknown key 'halfwidth' (did you mean 'half_width'?)"),
+    (lambda d: d["links"][1]["material"].update(rh0=1.0),
+     "links.l1.material: unknown key 'rh0' (did you mean 'rho'?)"),
+    (lambda d: d["joints"][1].update(name="j1"), "joints: duplicate name 'j1' (names must be "
+     "unique)"),
+    (lambda d: d.update(tool=3), "tool must be a table, got 3"),
+    (lambda d: d.update(joints={"name": "j1"}),
+     "joints must be an array of tables ([[joints]]), got {'name': 'j1'}"),
+    (lambda d: d["poses"].update(home="zero"),
+     "poses.home must be a list of joint angles in degrees, got 'zero'"),
+    (lambda d: d["poses"].update(home=[0.0, 900.0, 0.0]),
+     "poses.home: j2 = 900 deg outside limits [-180, 180] deg"),
+    (lambda d: d["model"].update(mesh_size=-0.01),
+     "model.mesh_size must be a positive edge length [m], got -0.01"),
+    (lambda d: d["model"].update(element_order=3),
+     "model.element_order must be 1 (Tet4) or 2 (Tet10), got 3"),
+    (lambda d: d["model"].update(cb_modes=-1), "model.cb_modes must be >= 0, got -1"),
+    (lambda d: d["nonlinear"]["j2"].update(backlash_rad=-1e-4),
+     "nonlinear.j2: backlash width must be >= 0, got -0.0001"),
+    (lambda d: d["nonlinear"]["j3"].update(hysteresis_radius_Nm=0.0),
+     "nonlinear.j3: hysteresis radius must be > 0, got 0"),
+    (lambda d: d["joints"][1].update(limits_deg=[-float("inf"), 10.0]),
+     "joints.j2.limits must be finite, got [-inf, 10] deg"),
 ])
 def test_error_messages(edit, message):
     data = copy.deepcopy(FULL)

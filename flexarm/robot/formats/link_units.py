@@ -1,0 +1,72 @@
+"""Plausibility of each link's CAD ``units`` against the joint positions it carries.
+
+A wrong ``units`` scales a link's CAD by 1000 (mm read as m), 39 (inch) or 100 (cm):
+its mass, inertia and stiffness change by powers of that factor, and every analysis
+still runs.  The joints do not scale with it, so the CAD's size over the distance to the
+farthest joint the link carries gives the mistake away: over the IRB 4600 and the demo
+arm the ratio lies between 0.8 and 3.6; with a wrong unit it leaves ``[0.1, 100]``.
+"""
+
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+
+from ...fe.units import LENGTH_UNITS
+from ..description import Robot
+
+__all__ = ["check_link_units", "SIZE_RATIO"]
+
+log = logging.getLogger(__name__)
+
+#: Plausible range of (largest CAD extent) / (distance to the farthest child joint) [-].
+SIZE_RATIO = (0.1, 100.0)
+
+
+def _extent(path) -> float | None:
+    """Largest bounding-box extent of a CAD file in its own units (None if unreadable:
+    the mesher reports that file with its own message)."""
+    import trimesh
+
+    try:
+        mesh = trimesh.load(path, force="mesh", process=False)
+        return float(np.ptp(np.asarray(mesh.vertices), axis=0).max())
+    except Exception as exc:  # noqa: BLE001 - any reader failure: leave it to the mesher
+        log.info("%s: not checked against the joints (%s)", path, exc)
+        return None
+
+
+def check_link_units(robot: Robot) -> None:
+    """Raise ``ValueError`` naming ``links.<name>.units`` when a link's CAD, in its
+    ``units``, is far smaller or larger than the distance to the joints it carries.
+
+    Examples
+    --------
+    >>> from flexarm.robot import load_robot
+    >>> from dataclasses import replace
+    >>> robot = load_robot()
+    >>> check_link_units(robot)
+    >>> links = (robot.links[0], replace(robot.links[1], units="in")) + robot.links[2:]
+    >>> check_link_units(replace(robot, links=links))
+    Traceback (most recent call last):
+    ...
+    ValueError: links.frame.units: the CAD is 0.0146 m across with units='in' but carries \
+joint_2 at 0.175 m: is the unit of meshes/frame.stl right (m, mm, cm, in)?
+    """
+    lo, hi = SIZE_RATIO
+    for lk in robot.links:
+        reach = [(float(np.linalg.norm(j.origin)), j.name) for j in robot.joints
+                 if j.parent == lk.name]
+        if lk.mesh is None or not reach or max(reach)[0] <= 0:
+            continue
+        extent = _extent(lk.mesh)
+        if extent is None:
+            continue
+        size = extent * LENGTH_UNITS[lk.units]
+        distance, joint = max(reach)
+        if not lo <= size / distance <= hi:
+            shown = "/".join(lk.mesh.parts[-2:])
+            raise ValueError(f"links.{lk.name}.units: the CAD is {size:.3g} m across with "
+                             f"units={lk.units!r} but carries {joint} at {distance:.3g} m: "
+                             f"is the unit of {shown} right ({', '.join(LENGTH_UNITS)})?")
