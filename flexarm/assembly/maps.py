@@ -20,12 +20,19 @@ from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
 from ..fe.typing import ArrayLike, FloatArray
 from .analyses import natural_frequencies, tcp_compliance
-from .system import ArmModel
+from .system import ArmModel, is_rigid_arm
 
-__all__ = ["JointSpaceMap", "stiffness_map", "limits_map", "stiffest", "write_csv", "plot_map"]
+__all__ = ["JointSpaceMap", "stiffness_map", "limits_map", "stiffest", "write_csv", "plot_map",
+           "write_ratio"]
 
 log = logging.getLogger(__name__)
 DIRECTIONS = ("x", "y", "z")
+
+#: A grid pose is near a kinematic singularity when the condition number of the TCP's
+#: translational Jacobian (3 x n, all columns in m/rad) exceeds this.  There the joints
+#: cannot move the TCP along some direction, so that direction's stiffness grows without
+#: bound (the links alone carry it) and says nothing about the arm.
+SINGULAR_CONDITION = 20.0
 
 
 @dataclass(frozen=True)
@@ -44,6 +51,12 @@ class JointSpaceMap:
         Axial TCP stiffness K_xx, K_yy, K_zz [N/m] (base frame).
     freq_hz : (na, nb) float or None
         First eigenfrequency [Hz].
+    condition : (na, nb) float or None
+        Condition number [-] of the TCP's translational Jacobian (3 x n) per grid pose.
+    label : str
+        Model name for titles (``"E-model"``, ``"CB"``...).
+    pose_name : str
+        Name of the pose the map varies (its other joints are ``q_fixed``).
     """
 
     joints: tuple
@@ -52,6 +65,28 @@ class JointSpaceMap:
     q_fixed: FloatArray
     stiffness: FloatArray
     freq_hz: FloatArray | None
+    condition: FloatArray | None = None
+    label: str = ""
+    pose_name: str = ""
+
+    @property
+    def is_singular(self) -> np.ndarray:
+        """(na, nb) bool: grid poses near a kinematic singularity
+        (:data:`SINGULAR_CONDITION`)."""
+        if self.condition is None:
+            return np.zeros(self.stiffness.shape[:2], dtype=bool)
+        return ~(self.condition <= SINGULAR_CONDITION)
+
+    def title(self, field: str) -> str:
+        """``"E-model Kxx over (q2, q3) at P1"``: the model, the field and the pose."""
+        ja, jb = (j + 1 for j in self.joints)
+        if self.pose_name:
+            pose = f" at {self.pose_name}"
+        else:  # no name: the angles of the joints the map holds fixed
+            others = [j for j in range(len(self.q_fixed)) if j not in self.joints]
+            pose = ", " + " ".join(f"q{j + 1}={np.degrees(self.q_fixed[j]):.0f}"
+                                   for j in others) + " deg" if others else ""
+        return f"{self.label or 'arm'} {field} over (q{ja}, q{jb}){pose}"
 
     @property
     def least_stiff(self) -> np.ndarray:
@@ -68,6 +103,11 @@ class JointSpaceMap:
         lines = ["least stiff direction share: " + "  ".join(
             f"{d}={s * 100:.1f}%" for d, s in zip(DIRECTIONS, self.least_stiff_share,
                                                  strict=True))]
+        n_sing = int(self.is_singular.sum())
+        if n_sing:
+            lines.append(f"{n_sing} of {self.is_singular.size} grid poses lie near a kinematic "
+                         f"singularity (TCP Jacobian condition number > "
+                         f"{SINGULAR_CONDITION:g}): excluded from the stiffest poses")
         for d, (a, b, k) in stiffest(self).items():
             lines.append(f"stiffest in {d}: q{self.joints[0] + 1}={np.degrees(a):7.1f} deg "
                          f"q{self.joints[1] + 1}={np.degrees(b):7.1f} deg "
@@ -93,6 +133,8 @@ def stiffness_map(
     joints=(1, 2),
     frequencies: bool = True,
     chunk: int = 20000,
+    label: str = "",
+    pose_name: str = "",
 ) -> JointSpaceMap:
     """Evaluate the TCP axial stiffness (and first frequency) on a joint grid.
 
@@ -107,6 +149,8 @@ def stiffness_map(
         Also compute the first eigenfrequency (a batched eigen-solve per pose).
     chunk : int
         Poses per batched call (bounds memory; ``M(q)`` is assembled 50 poses at a time).
+    label, pose_name : str
+        Model and pose names for titles (default: ``E-model`` or ``flexible``, no pose).
     """
     Q = grid_poses(q_fixed, joints, a, b)
     flat = Q.reshape(-1, Q.shape[-1])
@@ -121,13 +165,34 @@ def stiffness_map(
             f1[s : s + chunk] = natural_frequencies(arm, flat[s : s + chunk])[:, 0]
     log.info("stiffness map done")
     shape = Q.shape[:2]
+    label = label or ("E-model" if is_rigid_arm(arm) else "flexible")
     return JointSpaceMap(tuple(joints), np.asarray(a, float), np.asarray(b, float),
                          np.asarray(q_fixed, float), K.reshape(shape + (3,)),
-                         None if f1 is None else f1.reshape(shape))
+                         None if f1 is None else f1.reshape(shape),
+                         jacobian_condition(arm, Q), label, pose_name)
+
+
+def jacobian_condition(arm: ArmModel, Q: ArrayLike) -> FloatArray:
+    """(...) condition number [-] of the TCP's translational Jacobian (3 x n) at poses
+    ``Q`` (..., n) [rad]; ``inf`` where it loses rank.
+
+    Examples
+    --------
+    >>> from flexarm.assembly.examples import two_link_arm
+    >>> c = jacobian_condition(two_link_arm(), [[0.0, 0.0], [0.0, 0.5]])
+    >>> bool(c[0] > 1e6), bool(c[1] < 1e3)  # stretched: singular; bent: fine
+    (True, True)
+    """
+    from ..robot.kinematics import jacobian
+
+    s = np.linalg.svd(jacobian(arm.chain, Q)[..., :3, :], compute_uv=False)
+    with np.errstate(divide="ignore"):
+        return s[..., 0] / s[..., -1]
 
 
 def limits_map(arm: ArmModel, q_fixed: ArrayLike, lower: ArrayLike, upper: ArrayLike,
-               n: int = 60, joints=(1, 2), frequencies: bool = True) -> JointSpaceMap:
+               n: int = 60, joints=(1, 2), frequencies: bool = True, label: str = "",
+               pose_name: str = "") -> JointSpaceMap:
     """:func:`stiffness_map` on an ``n`` x ``n`` grid spanning the two joints' limits
     ``lower``, ``upper`` (n,) [rad].
 
@@ -143,14 +208,18 @@ def limits_map(arm: ArmModel, q_fixed: ArrayLike, lower: ArrayLike, upper: Array
         raise ValueError(f"a map needs at least 2 grid points per joint, got {n}")
     lo, hi = np.asarray(lower, float), np.asarray(upper, float)
     a, b = (np.linspace(lo[j], hi[j], n) for j in joints)
-    return stiffness_map(arm, q_fixed, a, b, joints, frequencies)
+    return stiffness_map(arm, q_fixed, a, b, joints, frequencies, label=label,
+                         pose_name=pose_name)
 
 
 def stiffest(m: JointSpaceMap) -> dict:
-    """Per direction, the stiffest grid configuration: ``{"x": (a, b, K) ...}`` [rad, N/m]."""
+    """Per direction, the stiffest grid configuration away from kinematic singularities
+    (:attr:`JointSpaceMap.is_singular`): ``{"x": (a, b, K) ...}`` [rad, N/m]."""
     out = {}
+    ok = ~m.is_singular if not m.is_singular.all() else np.ones(m.is_singular.shape, bool)
     for d, name in enumerate(DIRECTIONS):
-        i, j = np.unravel_index(np.argmax(m.stiffness[..., d]), m.stiffness.shape[:2])
+        K = np.where(ok, m.stiffness[..., d], -np.inf)
+        i, j = np.unravel_index(np.argmax(K), K.shape)
         out[name] = (float(m.a[i]), float(m.b[j]), float(m.stiffness[i, j, d]))
     return out
 
@@ -164,6 +233,9 @@ def write_csv(path, m: JointSpaceMap) -> Path:
     if m.freq_hz is not None:
         cols.append("f1_Hz")
         data.append(m.freq_hz.ravel())
+    if m.condition is not None:
+        cols += ["jacobian_cond", "near_singular"]
+        data += [m.condition.ravel(), m.is_singular.ravel().astype(float)]
     lines = [",".join(cols)]
     lines += [",".join(f"{v:.10g}" for v in row) for row in np.column_stack(data)]
     path = Path(path)
@@ -172,25 +244,54 @@ def write_csv(path, m: JointSpaceMap) -> Path:
     return path
 
 
+def _heat(ax, m: JointSpaceMap, Z: FloatArray, is_log: bool):
+    """One heat map on ``ax``: log colours for stiffness, near-singular poses grey."""
+    from matplotlib.colors import LogNorm
+
+    A, B = np.meshgrid(np.degrees(m.a), np.degrees(m.b), indexing="ij")
+    Zm = np.ma.masked_where(m.is_singular | ~np.isfinite(Z), Z)
+    cmap = pyplot().get_cmap("viridis").with_extremes(bad="0.75")
+    norm = LogNorm(vmin=Zm.min(), vmax=Zm.max()) if is_log and Zm.count() else None
+    pc = ax.pcolormesh(B, A, Zm, shading="auto", cmap=cmap, norm=norm)
+    ja, jb = m.joints
+    handles = ax.plot(np.degrees(m.q_fixed[jb]), np.degrees(m.q_fixed[ja]), "r*", ms=12,
+                      mec="w", ls="none", label=f"pose {m.pose_name}".strip())
+    if m.is_singular.any():
+        from matplotlib.patches import Patch
+
+        handles.append(Patch(facecolor="0.75", label=f"near-singular (cond J > "
+                                                     f"{SINGULAR_CONDITION:g}), masked"))
+    ax.legend(handles=handles, fontsize=7, loc="upper right")
+    return pc
+
+
 def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
-    """Heat maps and (``surfaces``) 3-D surfaces (PNG) of K_xx, K_yy, K_zz and f1."""
+    """Heat maps and (``surfaces``) 3-D surfaces (PNG) of K_xx, K_yy, K_zz and f1.
+
+    Stiffness is coloured on a log scale (it spans decades near singular poses); poses
+    near a kinematic singularity (:attr:`JointSpaceMap.is_singular`) are masked grey and
+    left out of the colour range.  Each title names the model and the pose, and a star
+    marks the pose the map was varied from.  The numbers are those of :func:`write_csv`.
+    """
     plt = pyplot()
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     ja, jb = (j + 1 for j in m.joints)
     A, B = np.meshgrid(np.degrees(m.a), np.degrees(m.b), indexing="ij")
-    fields = [(f"K{d}{d}", m.stiffness[..., i] * 1e-3, "N/mm") for i, d in enumerate(DIRECTIONS)]
+    fields = [(f"K{d}{d}", m.stiffness[..., i] * 1e-3, "N/mm", True)
+              for i, d in enumerate(DIRECTIONS)]
     if m.freq_hz is not None:
-        fields.append(("f1", m.freq_hz, "Hz"))
+        fields.append(("f1", m.freq_hz, "Hz", False))
     out = []
-    for name, Z, unit in fields:
+    for name, Z, unit, is_log in fields:
         fig, ax = plt.subplots(figsize=(6, 4.5))
-        pc = ax.pcolormesh(B, A, Z, shading="auto", cmap="viridis")
-        fig.colorbar(pc, ax=ax, label=f"{name} [{unit}]")
+        pc = _heat(ax, m, Z, is_log)
+        fig.colorbar(pc, ax=ax, label=f"{name} [{unit}]" + (" (log scale)" if is_log else ""))
         ax.set_xlabel(f"q{jb} [deg]")
         ax.set_ylabel(f"q{ja} [deg]")
-        ax.set_title(f"{name} over (q{ja}, q{jb})")
+        ax.set_title(m.title(name), fontsize=10)
+        fig.tight_layout()
         p = folder / f"map_{name}_heat.png"
         fig.savefig(p, dpi=100)
         plt.close(fig)
@@ -199,12 +300,51 @@ def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
             continue
         fig = plt.figure(figsize=(6, 4.5))
         ax3 = fig.add_subplot(projection="3d")
-        ax3.plot_surface(B, A, Z, cmap="viridis")
+        Zs = np.where(m.is_singular, np.nan, Z)
+        ax3.plot_surface(B, A, np.log10(Zs) if is_log else Zs, cmap="viridis")
         ax3.set_xlabel(f"q{jb} [deg]")
         ax3.set_ylabel(f"q{ja} [deg]")
-        ax3.set_zlabel(f"{name} [{unit}]")
+        ax3.set_zlabel(f"log10 {name} [{unit}]" if is_log else f"{name} [{unit}]")
+        ax3.set_title(m.title(name) + (" (near-singular poses left out)"
+                                       if m.is_singular.any() else ""), fontsize=9)
         p3 = folder / f"map_{name}_surface.png"
         fig.savefig(p3, dpi=100)
         plt.close(fig)
         out.append(p3)
+    return out
+
+
+def write_ratio(flex: JointSpaceMap, rigid: JointSpaceMap, folder) -> list[Path]:
+    """How much the flexible links soften the arm: ``K_flex / K_rigid`` per direction on
+    the common grid, as ``map_ratio.csv`` (``q<a>_deg, q<b>_deg, kxx_ratio, kyy_ratio,
+    kzz_ratio, near_singular``) and ``map_ratio_K<d><d>_heat.png`` (the same numbers;
+    near-singular poses masked) in ``folder``."""
+    if flex.stiffness.shape != rigid.stiffness.shape or not (
+            np.array_equal(flex.a, rigid.a) and np.array_equal(flex.b, rigid.b)):
+        raise ValueError("the two maps must share their grid")
+    plt = pyplot()
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        R = flex.stiffness / rigid.stiffness
+    ja, jb = (j + 1 for j in flex.joints)
+    A, B = np.meshgrid(np.degrees(flex.a), np.degrees(flex.b), indexing="ij")
+    cols = [A.ravel(), B.ravel()] + [R[..., d].ravel() for d in range(3)]
+    cols.append(flex.is_singular.ravel().astype(float))
+    csv = folder / "map_ratio.csv"
+    with atomic_path(csv) as tmp:
+        np.savetxt(tmp, np.column_stack(cols), delimiter=",", comments="", fmt="%.10g",
+                   header=f"q{ja}_deg,q{jb}_deg,kxx_ratio,kyy_ratio,kzz_ratio,near_singular")
+    out = [csv]
+    for i, d in enumerate(DIRECTIONS):
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        pc = _heat(ax, flex, R[..., i], False)
+        fig.colorbar(pc, ax=ax, label=f"K{d}{d} {flex.label} / {rigid.label} [-]")
+        ax.set_xlabel(f"q{jb} [deg]")
+        ax.set_ylabel(f"q{ja} [deg]")
+        ax.set_title(flex.title(f"K{d}{d} / {rigid.label} K{d}{d}"), fontsize=9)
+        fig.tight_layout()
+        out.append(folder / f"map_ratio_K{d}{d}_heat.png")
+        fig.savefig(out[-1], dpi=100)
+        plt.close(fig)
     return out

@@ -16,7 +16,8 @@ import threading
 import time
 from collections.abc import Callable, Iterable
 
-__all__ = ["COMMANDS", "command", "out", "say", "wrote", "Progress", "add_robot_args",
+__all__ = ["COMMANDS", "command", "out", "say", "set_quiet", "wrote", "Progress",
+           "add_robot_args",
            "add_flexible_args",
            "robot_from", "arm_spec_from", "arm_from", "pose_from", "floats", "ints", "names"]
 
@@ -39,9 +40,19 @@ def out(*parts) -> None:
     print(*parts)  # noqa: T201 - the CLI is where printing belongs
 
 
+#: ``-q``: no progress lines (warnings and errors still go to stderr).
+_QUIET = threading.Event()
+
+
+def set_quiet(quiet: bool) -> None:
+    """Silence (``True``) or restore :func:`say` and :class:`Progress`."""
+    (_QUIET.set if quiet else _QUIET.clear)()
+
+
 def say(text: str) -> None:
-    """One progress line on stderr."""
-    print(text, file=sys.stderr, flush=True)  # noqa: T201
+    """One progress line on stderr (nothing under ``-q``)."""
+    if not _QUIET.is_set():
+        print(text, file=sys.stderr, flush=True)  # noqa: T201
 
 
 def wrote(paths: Iterable) -> None:
@@ -51,34 +62,42 @@ def wrote(paths: Iterable) -> None:
 
 
 class Progress:
-    """Start/finish lines with elapsed time on stderr; a ticking timer on a terminal."""
+    """Start/finish lines with elapsed time on stderr; a ticking timer on a terminal.
+
+    Carriage returns (the ticking timer) go to a terminal only: a log file gets plain
+    lines, one per start, note and finish.  Nothing under ``-q``.
+    """
 
     def __init__(self, what: str):
         self.what = what
 
+    def _write(self, text: str) -> None:
+        if not _QUIET.is_set():
+            sys.stderr.write(text)
+            sys.stderr.flush()
+
     def __enter__(self):
         self.t0 = time.perf_counter()
         self._stop = threading.Event()
-        sys.stderr.write(f"{self.what} ...")
-        sys.stderr.flush()
-        if sys.stderr.isatty():
+        self._tty = sys.stderr.isatty()
+        self._write(f"{self.what} ..." if self._tty else f"{self.what} ...\n")
+        if self._tty and not _QUIET.is_set():
             threading.Thread(target=self._tick, daemon=True).start()
         return self
 
     def _tick(self) -> None:
         while not self._stop.wait(1.0):
-            sys.stderr.write(f"\r{self.what} ... {time.perf_counter() - self.t0:5.0f} s")
-            sys.stderr.flush()
+            self._write(f"\r{self.what} ... {time.perf_counter() - self.t0:5.0f} s")
 
     def note(self, text: str) -> None:
-        sys.stderr.write(f"\n  {text}")
-        sys.stderr.flush()
+        self._write(f"\n  {text}" if self._tty else f"  {text}\n")
 
     def __exit__(self, exc_type, exc, tb):
         self._stop.set()
         status = "done" if exc_type is None else "failed"
-        sys.stderr.write(f"\r{self.what} ... {status} in {time.perf_counter() - self.t0:.1f} s\n")
-        sys.stderr.flush()
+        dt = time.perf_counter() - self.t0
+        self._write(f"\r{self.what} ... {status} in {dt:.1f} s\n" if self._tty
+                    else f"{self.what}: {status} in {dt:.1f} s\n")
         return False
 
 
@@ -148,7 +167,10 @@ def pose_from(robot, args):
         args.pose = "P1" if "P1" in robot.poses else next(iter(robot.poses), None)
         if args.pose is None:
             args.pose = ",".join("0" for _ in robot.joints)
-    return pose_from_string(robot, args.pose)
+    try:  # joint limits and angle counts are checked there; the option is named here
+        return pose_from_string(robot, args.pose)
+    except ValueError as exc:
+        raise ValueError(f"--pose: {exc}") from None
 
 
 def floats(text: str, what: str = "value") -> list[float]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from ._common import add_robot_args, arm_from, command, floats, out, pose_from, wrote
+from ._common import add_robot_args, arm_from, command, floats, out, pose_from, robot_from, wrote
 
 #: Every arm analysis runs on the E-model, the flexible arm or the full-FE arm (solved
 #: pose by pose: a map over thousands of poses is for the reduced models).
@@ -53,20 +53,22 @@ def _run_import_urdf(args) -> int:
 def _add_modes(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS)
     p.add_argument("-n", "--n-modes", type=int, default=24, help="modes to list")
-    p.add_argument("-o", "--output", default=None, help="folder for the mode-energy PNG")
+    p.add_argument("-o", "--output", default=None, help="folder for mode_energy.csv and .png")
 
 
 @command("modes", "eigenfrequencies and joint energy shares of the arm at a pose", _add_modes)
 def _run_modes(args) -> int:
     from ..assembly.analyses import modes
-    from ..studies.plots import plot_mode_energy
+    from ..studies.plots import write_mode_energy
 
-    arm = arm_from(args)
-    md = modes(arm.model, pose_from(arm.robot, args))
+    robot = robot_from(args)
+    q = pose_from(robot, args)  # a bad pose fails before any meshing
+    arm = arm_from(args, robot)
+    md = modes(arm.model, q)
     out(md.text(arm.robot.joint_names, args.n_modes))
     if args.output:
-        wrote([plot_mode_energy(os.path.join(args.output, "mode_energy.png"), md.freq_hz,
-                                md.energy, arm.robot.joint_names)])
+        wrote(write_mode_energy(args.output, md.freq_hz, md.energy, arm.robot.joint_names,
+                                f"{arm.spec.label} strain energy per joint at {args.pose}"))
     return 0
 
 
@@ -82,8 +84,10 @@ def _add_compliance(p: argparse.ArgumentParser) -> None:
 def _run_compliance(args) -> int:
     from ..studies.compliance import compliance_report
 
-    arm = arm_from(args)
-    rep = compliance_report(arm.model, pose_from(arm.robot, args), args.force)
+    robot = robot_from(args)
+    q = pose_from(robot, args)  # a bad pose fails before any meshing
+    arm = arm_from(args, robot)
+    rep = compliance_report(arm.model, q, args.force)
     out(rep.text())
     if args.output:
         wrote([rep.write_csv(os.path.join(args.output, "compliance.csv"))])
@@ -101,8 +105,10 @@ def _add_frf(p: argparse.ArgumentParser) -> None:
 def _run_frf(args) -> int:
     from ..studies.frf import frf_report
 
-    arm = arm_from(args)
-    rep = frf_report(arm.model, pose_from(arm.robot, args), args.fmax,
+    robot = robot_from(args)
+    q = pose_from(robot, args)  # a bad pose fails before any meshing
+    arm = arm_from(args, robot)
+    rep = frf_report(arm.model, q, args.fmax,
                      title=f"{arm.spec.label} TCP receptance at {args.pose}")
     out(rep.text())
     if args.output:
@@ -118,15 +124,26 @@ def _add_map(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", default=None, help="folder for map.csv and the PNGs")
 
 
-@command("map", "TCP stiffness Kxx, Kyy, Kzz and f1 over joints 2 and 3 (CSV, PNG)", _add_map)
+@command("map", "TCP stiffness Kxx, Kyy, Kzz and f1 over joints 2 and 3 (CSV, PNG; with a "
+         "flexible model also its ratio to the E-model)", _add_map)
 def _run_map(args) -> int:
-    from ..assembly.maps import limits_map, plot_map, write_csv
+    from ..assembly.maps import limits_map, plot_map, write_csv, write_ratio
 
-    arm = arm_from(args)
-    m = limits_map(arm.model, pose_from(arm.robot, args), arm.robot.lower, arm.robot.upper,
-                   args.n, frequencies=not args.no_frequencies)
+    if args.n < 2:
+        raise ValueError(f"--n: a map needs at least 2 grid points per joint, got {args.n}")
+    robot = robot_from(args)
+    q = pose_from(robot, args)  # a bad pose fails before any meshing
+    arm = arm_from(args, robot)
+    m = limits_map(arm.model, q, arm.robot.lower, arm.robot.upper,
+                   args.n, frequencies=not args.no_frequencies, label=arm.spec.label,
+                   pose_name=args.pose)
     out(m.summary())
     if args.output:
         wrote([write_csv(os.path.join(args.output, "map.csv"), m)])
         wrote(plot_map(m, args.output))
+        if args.model != "emodel":  # how much the flexible links soften the arm
+            rigid = arm_from(args, robot, "emodel")
+            wrote(write_ratio(m, limits_map(rigid.model, q, robot.lower, robot.upper, args.n,
+                                            frequencies=False, label=rigid.spec.label,
+                                            pose_name=args.pose), args.output))
     return 0

@@ -72,7 +72,8 @@ def _add_chatter(p: argparse.ArgumentParser) -> None:
                    help="surface-normal angle from e1 in the plane [deg] (default: worst case)")
     p.add_argument("--cnc-stiffness", type=float, default=5e7, help="CNC stiffness [N/m]")
     p.add_argument("--duration", type=float, default=2.0, help="simulated time [s]")
-    p.add_argument("-o", "--output", default=None, help="folder for the PNGs")
+    p.add_argument("-o", "--output", default=None,
+                   help="folder for chatter_time.csv and the PNGs")
 
 
 @command("chatter", "mode-coupling chatter at a pose (2-DOF, closed form + simulation) vs a CNC",
@@ -80,12 +81,14 @@ def _add_chatter(p: argparse.ArgumentParser) -> None:
 def _run_chatter(args) -> int:
     from ..studies.contact import run_chatter
 
-    arm = arm_from(args)
-    st = run_chatter(arm.model, pose_from(arm.robot, args), args.kc, args.dir, args.normal,
+    robot = robot_from(args)
+    q = pose_from(robot, args)  # a bad pose fails before any meshing
+    arm = arm_from(args, robot)
+    st = run_chatter(arm.model, q, args.kc, args.dir, args.normal,
                      args.cnc_stiffness, args.duration)
     out(st.text())
     if args.output:
-        wrote(st.write(args.output))
+        wrote(st.write(args.output, f"{arm.spec.label} at {args.pose}"))
     return 0
 
 
@@ -104,10 +107,14 @@ def _add_chatter_map(p: argparse.ArgumentParser) -> None:
 def _run_chatter_map(args) -> int:
     from ..studies.contact import chatter_limits_map, write_chatter_map
 
-    arm = arm_from(args)
-    cm = chatter_limits_map(arm.model, pose_from(arm.robot, args), arm.robot.lower,
+    if args.n < 2:
+        raise ValueError(f"--n: a map needs at least 2 grid points per joint, got {args.n}")
+    robot = robot_from(args)
+    q = pose_from(robot, args)  # a bad pose fails before any meshing
+    arm = arm_from(args, robot)
+    cm = chatter_limits_map(arm.model, q, arm.robot.lower,
                             arm.robot.upper, args.n, args.dir, args.normal)
     out(cm.text())
     if args.output:
-        wrote(write_chatter_map(args.output, cm))
+        wrote(write_chatter_map(args.output, cm, f"{arm.spec.label} at {args.pose}"))
     return 0

@@ -50,10 +50,17 @@ def _add_compare_models(p: argparse.ArgumentParser) -> None:
 @command("compare-models", "E-model vs Guyan vs CB vs CB+wrist vs full FE at poses (CSV, PNG)",
          _add_compare_models)
 def _run_compare_models(args) -> int:
+    from ..robot import pose_from_string
     from ..studies.compare_models import compare_models
 
     poses = [t.strip() for t in args.poses.split(";")] if ";" in args.poses else names(args.poses)
-    rep = compare_models(robot_from(args), poses, args.modes, args.coupling,
+    robot = robot_from(args)
+    for pose in poses:  # a bad pose fails before any link is meshed
+        try:
+            pose_from_string(robot, pose)
+        except ValueError as exc:
+            raise ValueError(f"--poses: {exc}") from None
+    rep = compare_models(robot, poses, args.modes, args.coupling,
                          args.mesh_size, full_fe=not args.no_full_fe, out_dir=args.output,
                          progress=say)
     out(rep.text())
@@ -109,8 +116,10 @@ def _run_show_arm(args) -> int:
 
     if args.output is None and not args.interactive:
         args.output = f"arm_mode{args.mode}.png"
-    arm = arm_from(args)
-    path = render_arm_mode(arm, pose_from(arm.robot, args), args.mode, args.output,
+    robot = robot_from(args)
+    q = pose_from(robot, args)  # a bad pose fails before any meshing
+    arm = arm_from(args, robot)
+    path = render_arm_mode(arm, q, args.mode, args.output,
                            args.ellipsoid, args.pose, amplitude=args.amplitude,
                            interactive=args.interactive)
     if path is not None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from ._common import Progress, command, ints, names, out, wrote
+from ._common import Progress, command, ints, names, out, say, wrote
 
 _MATERIAL_HELP = "steel | cast_iron | aluminium | nafems | 'E,nu,rho' in SI units"
 
@@ -64,9 +64,10 @@ def _run_modal(args) -> int:
     mesh = read_volume_mesh(args.mesh).check(args.mesh)
     if args.fix:
         try:  # a bad selection is an error of this argument, named as such
-            select_nodes(mesh, args.fix)
+            fixed = select_nodes(mesh, args.fix)
         except ValueError as exc:
             raise ValueError(f"{args.mesh}: --fix {exc}") from None
+        _check_clamp(args.mesh, args.fix, mesh.points[fixed])
     with Progress(f"modes of {mesh.n_tets} Tet{4 if mesh.order == 1 else 10} "
                   f"({mesh.n_dofs} DOF)") as pr:
         res = part_modes(mesh, material, args.modes, args.fix, args.backend, progress=pr.note)
@@ -79,6 +80,21 @@ def _run_modal(args) -> int:
     if args.csv:
         res.write_csv(args.csv)
     return 0
+
+
+def _check_clamp(path, fix: str, points) -> None:
+    """Clamped nodes must hold the part against rotation too: at least three, not on one
+    line (else the stiffness is singular); says how many nodes the selection found."""
+    import numpy as np
+
+    n = len(points)
+    say(f"--fix '{fix}': {n} node{'s' if n != 1 else ''} clamped")
+    centred = np.asarray(points, dtype=float) - np.mean(points, axis=0)
+    s = np.linalg.svd(centred, compute_uv=False) if n > 1 else np.zeros(1)
+    if n < 3 or s[1] <= 1e-9 * max(s[0], 1e-300):
+        raise ValueError(f"{path}: --fix '{fix}' clamps {n} node{'s' if n != 1 else ''}"
+                         f"{' on one line' if n >= 3 else ''}: the part can still rotate "
+                         "(singular stiffness); select a face region, e.g. 'x<0.01'")
 
 
 # --- reduce ----------------------------------------------------------------------------
@@ -140,7 +156,9 @@ def _add_show(p: argparse.ArgumentParser) -> None:
     p.add_argument("--mode", type=int, default=None, help="mode number to draw (1-based)")
     p.add_argument("--boundary", default=None, choices=["fixed", "free"],
                    help="fixed-interface (default when available) or free-free modes")
-    p.add_argument("-o", "--output", default=None, help="picture: .png or .gif (animation)")
+    p.add_argument("-o", "--output", default=None,
+                   help="picture .png or .gif (animation), or the mode shape as .vtu/.vtk "
+                        "for ParaView")
     p.add_argument("--frames", type=int, default=24, help="GIF frames per period")
     p.add_argument("--interactive", action="store_true", help="open a window (needs a display)")
 
@@ -157,12 +175,35 @@ def _run_show(args) -> int:
         if args.output or args.interactive:
             raise ValueError("--mode N is needed to draw a picture")
         return 0
-    from ..reduction.render import render_mode
+    from ..reduction.render import MODE_EXTENSIONS, render_mode, write_mode
 
+    if args.output and os.path.splitext(args.output)[1].lower() in MODE_EXTENSIONS:
+        out(f"wrote {write_mode(se, args.mode, args.output, args.boundary)}")
+        if not args.interactive:
+            return 0
+        args.output = None
     path = render_mode(se, args.mode, args.output, args.boundary, n_frames=args.frames,
                        interactive=args.interactive)
     if path is not None:
         out(f"wrote {path}")
+    return 0
+
+
+# --- convert ---------------------------------------------------------------------------
+def _add_convert(p: argparse.ArgumentParser) -> None:
+    p.add_argument("superelement", help="superelement file or Matrix Market folder")
+    p.add_argument("-o", "--output", required=True,
+                   help="superelement to write: .h5, .npz, .mtx (folder), .bdf/.dmig/.pch")
+    p.add_argument("--format", default=None, choices=["h5", "npz", "mtx", "dmig"],
+                   help="format of the output (default: from its extension)")
+
+
+@command("convert", "rewrite a superelement in another format (no new reduction)",
+         _add_convert)
+def _run_convert(args) -> int:
+    from ..reduction import formats
+
+    out(f"wrote {formats.convert(args.superelement, args.output, args.format)}")
     return 0
 
 

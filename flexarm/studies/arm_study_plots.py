@@ -14,8 +14,37 @@ from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
 from .arm_study_results import StudyResult
 
-__all__ = ["plot_error_vs_dof", "plot_pareto"]
+__all__ = ["plot_error_vs_dof", "plot_pareto", "representation_label"]
 
+
+def representation_label(rep: str, reference_coupling: str) -> str:
+    """Legend name of a representation; one that is not the reference's seat coupling
+    says so (its difference is a different seat model, not a reduction error)."""
+    if rep in ("rbe2", "rbe3") and rep != reference_coupling:
+        return f"{rep} (seat model differs from reference {reference_coupling})"
+    return rep
+
+
+def _bottom_row(ax, rows, reps, attr: str, what: str, floor: float, ref_coupling: str) -> None:
+    """Error against link FE DOF per representation and mode count; with one mesh only
+    (every row at the same DOF), error against CB modes per representation instead."""
+    if len({r.n_fe_dofs for r in rows}) > 1:
+        for i, (rep, n) in enumerate(dict.fromkeys((r.coupling, r.n_modes) for r in rows)):
+            sel = sorted((r for r in rows if r.coupling == rep and r.n_modes == n),
+                         key=lambda r: r.n_fe_dofs)
+            ax.loglog([r.n_fe_dofs for r in sel],
+                      [max(getattr(r, attr), floor) for r in sel], "-", marker="s",
+                      color=f"C{reps.index(rep)}", alpha=0.4 + 0.6 * (i % 4) / 3,
+                      label=f"{representation_label(rep, ref_coupling)} {sel[0].label}")
+        ax.set(xlabel="link FE DOF (3 x nodes)", ylabel=f"largest relative error, {what}")
+        return
+    for i, rep in enumerate(reps):
+        sel = sorted((r for r in rows if r.coupling == rep), key=lambda r: r.n_modes)
+        ax.semilogy([r.n_modes for r in sel], [max(getattr(r, attr), floor) for r in sel],
+                    "-", marker="s", color=f"C{i}", label=representation_label(rep, ref_coupling))
+    ax.set(xlabel=f"CB modes per link (0 = Guyan; one mesh: "
+                  f"{rows[0].n_fe_dofs} link FE DOF)",
+           ylabel=f"largest relative error, {what}")
 
 
 def plot_error_vs_dof(path, result: StudyResult) -> Path:
@@ -27,6 +56,7 @@ def plot_error_vs_dof(path, result: StudyResult) -> Path:
     fig, axes = plt.subplots(2, 2, figsize=(12, 9))
     sizes = sorted({r.mesh_size for r in rows}, reverse=True)
     reps = list(dict.fromkeys(r.coupling for r in rows))
+    ref_c = result.reference.coupling
     floor = 1e-9
     for col, (attr, what) in enumerate((("freq_err_max", "first frequencies"),
                                         ("C_err_max", "TCP compliance diagonal"))):
@@ -39,16 +69,9 @@ def plot_error_vs_dof(path, result: StudyResult) -> Path:
                     ax.loglog([r.n_reduced for r in sel],
                               [max(getattr(r, attr), floor) for r in sel],
                               ["-", "--", "-.", ":"][j % 4], marker="o", color=f"C{i}",
-                              label=f"{rep}, {h * 1e3:.0f} mm")
+                              label=f"{representation_label(rep, ref_c)}, {h * 1e3:.0f} mm")
         ax.set(xlabel="reduced arm DOF", ylabel=f"largest relative error, {what} (floor 1e-9)")
-        ax = axes[1, col]
-        for i, (rep, n) in enumerate(dict.fromkeys((r.coupling, r.n_modes) for r in rows)):
-            sel = sorted((r for r in rows if r.coupling == rep and r.n_modes == n),
-                         key=lambda r: r.n_fe_dofs)
-            ax.loglog([r.n_fe_dofs for r in sel], [max(getattr(r, attr), floor) for r in sel],
-                      "-", marker="s", color=f"C{reps.index(rep)}", alpha=0.4 + 0.6 * (i % 4) / 3,
-                      label=f"{rep} {sel[0].label}")
-        ax.set(xlabel="link FE DOF (3 x nodes)", ylabel=f"largest relative error, {what}")
+        _bottom_row(axes[1, col], rows, reps, attr, what, floor, ref_c)
     from matplotlib.ticker import NullFormatter
 
     for ax in axes.ravel():
@@ -77,7 +100,7 @@ def plot_pareto(path, result: StudyResult) -> Path:
     for i, rep in enumerate(reps):
         sel = [r for r in rows if r.coupling == rep]
         ax.loglog([max(r.seconds, 1e-4) for r in sel], [max(r.error, floor) for r in sel], "o",
-                  color=f"C{i}", label=rep)
+                  color=f"C{i}", label=representation_label(rep, result.reference.coupling))
     front, best = [], np.inf
     for r in rows:
         if r.error < best * (1 - 1e-6):  # strictly better (ties are not on the front)

@@ -18,6 +18,7 @@ import numpy as np
 from ..assembly.system import ArmModel
 from ..fe.plotting import pyplot
 from ..fe.text import text_table
+from .diagnosis_plots import plot_residual_vs_torque, write_residuals
 from .fit import Problem, chi2_band
 from .measurements import StaticData
 from .tolerances import tol
@@ -84,7 +85,7 @@ class Comparison:
     problem: Problem
 
     def text(self) -> str:
-        """The error table [mm], chi2_red with its band and the RMS [um], as ``compare``
+        """The error table [mm], chi2_red with its band and the RMS [µm], as ``compare``
         prints them."""
         lo, hi = self.band
         return "\n".join([
@@ -92,7 +93,7 @@ class Comparison:
                        [[r.series, r.mean_abs_mm, r.max_abs_mm, r.relative, r.max_meas_mm]
                         for r in self.table], "{:.4f}"),
             f"chi2_red = {self.chi2_red:.3f} (band {lo:.3f}-{hi:.3f} for the stated noise), "
-            f"RMS = {self.rms * 1e6:.1f} um"])
+            f"RMS = {self.rms * 1e6:.1f} µm"])
 
     def write(self, folder) -> list[Path]:
         """:func:`write_report` into ``folder``."""
@@ -174,24 +175,15 @@ def write_report(folder, cmp: Comparison) -> list[Path]:
     fig.savefig(out[-1], dpi=90)
     plt.close(fig)
     res = (data.disp - cmp.predicted) * 1e6
-    nj = pb.tau.shape[1]
-    fig, axes = plt.subplots(1, nj, figsize=(2.6 * nj, 2.6), squeeze=False)
-    for j, ax in enumerate(axes[0]):
-        for k in range(3):
-            ax.plot(pb.tau[:, j], res[:, k], ".", ms=3, color=f"C{k}")
-        ax.set_xlabel(f"joint {j + 1} torque [N m]", fontsize=7)
-        ax.tick_params(labelsize=7)
-    axes[0, 0].set_ylabel("residual [um]")
-    fig.tight_layout()
-    out.append(folder / "residual_vs_torque.png")
-    fig.savefig(out[-1], dpi=90)
-    plt.close(fig)
+    out += [write_residuals(folder / "residuals.csv", data.series, pb.tau, res * 1e-6,
+                            data.force, data.disp, cmp.predicted),
+            plot_residual_vs_torque(folder / "residual_vs_torque.png", pb.tau, res * 1e-6)]
     poses = sorted({r.pose for r in cmp.table})
     fig, ax = plt.subplots(figsize=(5, 3))
     pose_of = np.array([str(s).split("_")[0] for s in data.series])
     ax.boxplot([np.abs(res[(pose_of == p) & ~pb.is_ref]).ravel() for p in poses])
     ax.set_xticks(np.arange(1, len(poses) + 1), poses)
-    ax.set_ylabel("|residual| [um]")
+    ax.set_ylabel("|residual| [µm]")
     fig.tight_layout()
     out.append(folder / "residual_by_pose.png")
     fig.savefig(out[-1], dpi=90)

@@ -18,9 +18,9 @@ import numpy as np
 
 from ..assembly.effects import apply_effects, resolve
 from ..assembly.system import ArmModel
-from ..fe.plotting import pyplot
 from ..robot.description import BaseSupport, Robot
 from ..robot.effects import NONLINEAR
+from .diagnosis_plots import plot_history
 
 __all__ = ["robot_with_effects", "write_history"]
 
@@ -73,10 +73,11 @@ def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> Robot:
                    effects=nonlinear)
 
 
-def write_history(folder, diagnosis) -> list[Path]:
-    """``history.csv``, ``history.json`` and ``history.png``: error of each model version."""
-    plt = pyplot()
-
+def write_history(folder, diagnosis, nominal_rms: float | None = None,
+                  sigma: float | None = None) -> list[Path]:
+    """``history.csv``, ``history.json`` and ``history.png``: error of each model version
+    (the plot from the ``nominal_rms`` [m] model down, with the noise floor of ``sigma``
+    [m]: :func:`~flexarm.validation.diagnosis_plots.plot_history`)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     rows = [{"version": i, "model": s.label, "chi2_red": s.chi2_red, "band_lo": s.band[0],
@@ -89,15 +90,5 @@ def write_history(folder, diagnosis) -> list[Path]:
         w.writerows(rows)
     out[1].write_text(json.dumps({"versions": rows, "accepted": [e.to_dict() for e in
                                                                  diagnosis.accepted]}, indent=2))
-    fig, ax = plt.subplots(figsize=(6, 3.2))
-    x = np.arange(len(rows))
-    ax.bar(x - 0.2, [r["rms_fit_um"] for r in rows], 0.4, label="fitted series")
-    ax.bar(x + 0.2, [r["rms_heldout_um"] for r in rows], 0.4, label="held-out series")
-    ax.set_xticks(x, [f"v{r['version']}" for r in rows])
-    ax.set_ylabel("RMS error [um]")
-    ax.legend(fontsize=8)
-    ax.set_title(" -> ".join(r["model"].split(" + ")[-1] for r in rows), fontsize=7)
-    fig.tight_layout()
-    fig.savefig(out[2], dpi=90)
-    plt.close(fig)
+    plot_history(out[2], rows, nominal_rms, sigma)
     return out

@@ -69,3 +69,16 @@ def test_study_part(tmp_path, capsys):
     lines = (tmp_path / "study.csv").read_text().splitlines()
     assert lines[0].startswith("mesh,n_full,representation,n_modes") and len(lines) == 5
     assert (tmp_path / "study.png").stat().st_size > 1000
+
+
+def test_modal_clamp_of_one_line_of_nodes_says_how_many(part, capsys):
+    assert main(["modal", str(part), "--fix", "x=min & y=min"]) == 2
+    err = capsys.readouterr().err
+    assert "--fix 'x=min & y=min': 3 nodes clamped" in err
+    assert err.strip().splitlines()[-1].endswith(
+        "clamps 3 nodes on one line: the part can still rotate (singular stiffness); "
+        "select a face region, e.g. 'x<0.01'")
+    assert main(["modal", str(part), "--fix", "x=min & y=min & z=min"]) == 2
+    assert "clamps 1 node: the part can still rotate" in capsys.readouterr().err
+    assert main(["modal", str(part), "--fix", "x=min", "-n", "2"]) == 0
+    assert "--fix 'x=min': 9 nodes clamped" in capsys.readouterr().err

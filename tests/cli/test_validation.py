@@ -84,7 +84,7 @@ def test_cli_compare_prints_the_api_text(tmp_path, capsys):
     text = compare(static, noise_um=20.0).text().splitlines()
     assert lines[:len(text)] == text and len(text) == 2 + 3 + 1
     assert lines[len(text):] == [f"wrote {tmp_path / 'r' / n}" for n in (
-        "errors.csv", "deflection_vs_force.png", "residual_vs_torque.png",
+        "errors.csv", "deflection_vs_force.png", "residuals.csv", "residual_vs_torque.png",
         "residual_by_pose.png")]
 
 

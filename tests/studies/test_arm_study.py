@@ -128,3 +128,60 @@ def test_verdict_names_a_seat_model_that_modes_cannot_fix():
     # within the loosest level somewhere: no such line
     assert len(verdict(rows[:2] + [row("rbe3", 10, 0.009)], reference_coupling="rbe2")
                .splitlines()) == 2
+
+
+def test_single_mesh_plot_spreads_over_mode_counts(box_robot, tmp_path, monkeypatch):
+    """One mesh: every row has the same link FE DOF, so the lower panels plot the error
+    against the CB mode count instead of stacking the points at one x; a seat model other
+    than the reference's is named so in the legend; the progress lines count down."""
+    from pathlib import Path
+
+    import matplotlib.figure
+
+    saved = {}
+    real = matplotlib.figure.Figure.savefig
+
+    def savefig(self, fname, *args, **kwargs):
+        saved[Path(fname).name] = self
+        return real(self, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
+    lines = []
+    res = run_study(box_robot, "P1", (0.1,), (0, 4), ("rbe2", "rbe3"), tmp_path,
+                    progress=lines.append, mesher=sized_box_mesher)
+    fig = next(f for f in saved.values() if len(f.axes) == 4)
+    low = fig.axes[2]
+    for line, rep in zip(low.get_lines(), ("rbe2", "rbe3"), strict=False):
+        rows = sorted((r for r in res.rows if r.coupling == rep), key=lambda r: r.n_modes)
+        assert list(line.get_xdata()) == [r.n_modes for r in rows] == [0, 4]
+        np.testing.assert_allclose(line.get_ydata(),
+                                   [max(r.freq_err_max, 1e-9) for r in rows])
+    labels = [t.get_text() for t in low.get_legend().get_texts()]
+    assert labels == ["rbe2", "rbe3 (seat model differs from reference rbe2)"]
+    with open(tmp_path / "arm_study.csv") as fh:  # the CSV holds the plotted errors
+        table = [r for r in csv.DictReader(fh) if r["label"] != "full-FE"]
+    for line, rep in zip(low.get_lines(), ("rbe2", "rbe3"), strict=False):
+        rows = sorted((r for r in table if r["coupling"] == rep), key=lambda r: int(r["n_modes"]))
+        np.testing.assert_allclose(line.get_ydata(),
+                                   [max(float(r["freq_err_max"]), 1e-9) for r in rows])
+    counted = [s for s in lines if s.startswith("[")]
+    assert all("ETA" in s for s in counted[:-1]) and "ETA" not in counted[-1]
+
+
+def test_verdict_estimates_the_discretisation_error(study):
+    """Richardson from the two sizes (Tet4: frequencies converge as h^2), on the most-modes
+    rbe2 variant; the one-size study says it cannot."""
+    from flexarm.studies.arm_study import discretisation_text
+
+    res, out, _ = study
+    fine, coarse = (next(r for r in res.rows if r.coupling == "rbe2" and r.n_modes == 12
+                         and r.mesh_size == h) for h in (0.05, 0.1))
+    f2, f1 = np.array(fine.freq_hz), np.array(coarse.freq_hz)
+    est = np.max(np.abs(f1 - f2) / (2.0**2 - 1) / f2)
+    line = res.verdict.splitlines()[-1]
+    assert line.startswith("discretisation error at 50 mm: about ")
+    assert float(line.split("about ")[1].split("%")[0]) == pytest.approx(100 * est, rel=0.05)
+    assert "Richardson from 100 and 50 mm, Tet4 h^2, CB(12) rbe2" in line
+    assert line in (out / "arm_study_verdict.txt").read_text()
+    one = [r for r in res.rows if r.mesh_size == 0.05]
+    assert discretisation_text(one, "rbe2").startswith("discretisation error: not estimated")

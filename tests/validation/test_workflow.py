@@ -91,12 +91,13 @@ def test_compare_dispatches_static_like_compare_static(tmp_path, demo, lab):
     text = cmp.text().splitlines()
     assert len(text) == 2 + 18 + 1
     assert text[-1] == (f"chi2_red = {ref.chi2_red:.3f} (band {ref.band[0]:.3f}-"
-                        f"{ref.band[1]:.3f} for the stated noise), RMS = {ref.rms * 1e6:.1f} um")
+                        f"{ref.band[1]:.3f} for the stated noise), RMS = {ref.rms * 1e6:.1f} µm")
     assert text[2].split() == ["P1_+x"] + [f"{v:.4f}" for v in (
         ref.table[0].mean_abs_mm, ref.table[0].max_abs_mm, ref.table[0].relative,
         ref.table[0].max_meas_mm)]
     assert [p.name for p in cmp.write(tmp_path)] == [
-        "errors.csv", "deflection_vs_force.png", "residual_vs_torque.png", "residual_by_pose.png"]
+        "errors.csv", "deflection_vs_force.png", "residuals.csv", "residual_vs_torque.png",
+        "residual_by_pose.png"]
 
 
 def test_compare_dispatches_modal_and_frf(tmp_path, demo):

@@ -28,6 +28,10 @@ __all__ = ["critical_kcb", "worst_normal", "ChatterMap", "chatter_map", "chatter
 
 log = logging.getLogger(__name__)
 
+#: Poses this close to a joint limit are mapped but never recommended: a robot cannot
+#: work there (no room for the path or the wrist to move) [rad].
+LIMIT_MARGIN = np.radians(5.0)
+
 
 def _pmul(p: FloatArray, q: FloatArray) -> FloatArray:
     """Batched polynomial product (coefficients highest power first, last axis)."""
@@ -140,6 +144,9 @@ class ChatterMap:
     dir_deg : float
     q_fixed : (6,) float
         The other joint angles [rad].
+    is_excluded : (n2, n3) bool or None
+        Poses never recommended: within :data:`LIMIT_MARGIN` of a joint limit or near a
+        kinematic singularity (:data:`~flexarm.assembly.maps.SINGULAR_CONDITION`).
     """
 
     q2: FloatArray
@@ -149,11 +156,16 @@ class ChatterMap:
     k_weak: FloatArray
     dir_deg: float
     q_fixed: FloatArray
+    is_excluded: np.ndarray | None = None
 
     def best(self, n: int = 3) -> list[tuple[float, float, float]]:
-        """The ``n`` poses with the largest limit: ``(q2 [deg], q3 [deg], K_c b [N/m])``."""
-        flat = np.where(np.isnan(self.kcb), -np.inf, self.kcb).ravel()
-        idx = np.argsort(-flat, kind="stable")[:n]
+        """The ``n`` poses with the largest limit: ``(q2 [deg], q3 [deg], K_c b [N/m])``,
+        leaving out :attr:`is_excluded` poses (joint limits, singularities)."""
+        bad = np.isnan(self.kcb)
+        if self.is_excluded is not None:
+            bad = bad | self.is_excluded
+        flat = np.where(bad, -np.inf, self.kcb).ravel()
+        idx = np.argsort(-flat, kind="stable")[:min(n, int((flat > -np.inf).sum()))]
         i2, i3 = np.unravel_index(idx, self.kcb.shape)
         return [(float(np.degrees(self.q2[a])), float(np.degrees(self.q3[b])),
                  float(self.kcb[a, b])) for a, b in zip(i2, i3, strict=True)]
@@ -166,14 +178,18 @@ class ChatterMap:
         return "\n".join(lines + [recommendation(self)])
 
     def write_csv(self, path) -> Path:
-        """One row per grid pose: ``q2_deg, q3_deg, kcb_limit_N/m, normal_deg, k_weak_N/m``
-        (``inf``: no limit, ``nan``: out of the joint limits), written atomically."""
+        """One row per grid pose: ``q2_deg, q3_deg, kcb_limit_N_per_m, normal_deg,
+        k_weak_N_per_m, excluded`` (``inf``: no limit, ``nan``: out of the joint limits;
+        ``excluded`` 1: never recommended), written atomically."""
         G2, G3 = np.meshgrid(np.degrees(self.q2), np.degrees(self.q3), indexing="ij")
+        ex = np.zeros(G2.shape) if self.is_excluded is None else self.is_excluded
         rows = np.column_stack([G2.ravel(), G3.ravel(), self.kcb.ravel(),
-                                self.normal_deg.ravel(), self.k_weak.ravel()])
+                                self.normal_deg.ravel(), self.k_weak.ravel(),
+                                np.asarray(ex, float).ravel()])
         with atomic_path(path) as tmp:
             np.savetxt(tmp, rows, delimiter=",", comments="", fmt="%.9g",
-                       header="q2_deg,q3_deg,kcb_limit_N/m,normal_deg,k_weak_N/m")
+                       header="q2_deg,q3_deg,kcb_limit_N_per_m,normal_deg,k_weak_N_per_m,"
+                              "excluded")
         return Path(path)
 
 
@@ -216,7 +232,21 @@ def chatter_map(arm: ArmModel, q_fixed: ArrayLike, q2: ArrayLike, q3: ArrayLike,
         kc, nd = critical_kcb(M, C, K, n, f), np.full(G2.shape, float(normal_deg))
     kc = np.where(ok, kc, np.nan)
     log.info("chatter map done")
-    return ChatterMap(q2, q3, kc, nd, kw, float(dir_deg), base)
+    return ChatterMap(q2, q3, kc, nd, kw, float(dir_deg), base,
+                      _excluded(arm, Q, lower, upper))
+
+
+def _excluded(arm: ArmModel, Q: FloatArray, lower, upper) -> np.ndarray:
+    """(n2, n3) bool: poses within :data:`LIMIT_MARGIN` of a limit of joints 2 or 3, or
+    near a kinematic singularity."""
+    from ...assembly.maps import SINGULAR_CONDITION, jacobian_condition
+
+    near = ~(jacobian_condition(arm, Q) <= SINGULAR_CONDITION)
+    for bound, sign in ((lower, 1.0), (upper, -1.0)):
+        if bound is not None:
+            gap = sign * (Q[..., 1:3] - np.asarray(bound, dtype=float)[1:3])
+            near |= np.any(gap < LIMIT_MARGIN, axis=-1)
+    return near
 
 
 def chatter_limits_map(arm: ArmModel, q_fixed: ArrayLike, lower: ArrayLike, upper: ArrayLike,
@@ -233,8 +263,8 @@ def chatter_limits_map(arm: ArmModel, q_fixed: ArrayLike, lower: ArrayLike, uppe
     >>> cm = chatter_limits_map(emodel(r), r.pose("P1"), r.lower, r.upper, n=3)
     >>> np.degrees(cm.q2).round(1).tolist(), np.degrees(cm.q3).round(1).tolist()  # limits
     ([-90.0, 30.0, 150.0], [-180.0, -52.5, 75.0])
-    >>> print(cm.text().splitlines()[1])
-    best: q2=  -90.0 deg q3= -180.0 deg limit K_c b=7.33e+05 N/m
+    >>> print(cm.text().splitlines()[0])  # the grid's limits are never recommended
+    best: q2=   30.0 deg q3=  -52.5 deg limit K_c b=1.8e+05 N/m
     """
     if n < 2:
         raise ValueError(f"a map needs at least 2 grid points per joint, got {n}")
@@ -245,6 +275,9 @@ def chatter_limits_map(arm: ArmModel, q_fixed: ArrayLike, lower: ArrayLike, uppe
 
 def recommendation(cm: ChatterMap) -> str:
     """One sentence: the safest pose, its margin over the worst, and the thesis's advice."""
+    if not cm.best(1):
+        return ("No pose to recommend: every grid pose is out of reach, near a joint limit "
+                "or near a kinematic singularity.")
     (b2, b3, bk), = cm.best(1)
     is_fin = np.isfinite(cm.kcb)
     finite = cm.kcb[is_fin]
@@ -252,8 +285,11 @@ def recommendation(cm: ChatterMap) -> str:
     corr = np.corrcoef(cm.k_weak[is_fin], finite)[0, 1] if finite.size > 2 else 0.0
     limit = ("no mode-coupling limit: stable for every K_c b" if np.isinf(bk) else
              f"limit K_c b = {bk:.3g} N/m, {bk / worst:.1f}x the worst pose's")
+    n_ex = 0 if cm.is_excluded is None else int(cm.is_excluded.sum())
+    excl = (f"; {n_ex} poses within {np.degrees(LIMIT_MARGIN):.0f} deg of a joint limit or "
+            f"near a singularity not considered" if n_ex else "")
     return (f"Machine at q2 = {b2:.0f} deg, q3 = {b3:.0f} deg ({limit}; worst pose "
             f"{worst:.3g} N/m, {int((~is_fin & ~np.isnan(cm.kcb)).sum())} of {cm.kcb.size} "
-            f"poses without a limit): choose stiff configurations "
+            f"poses without a limit{excl}): choose stiff configurations "
             f"(limit vs weakest in-plane stiffness correlation {corr:+.2f}) and avoid feeding "
             "or loading along the weak Y (joint-1 tangential) direction.")

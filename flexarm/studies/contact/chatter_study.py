@@ -25,6 +25,10 @@ __all__ = ["ChatterStudy", "run_chatter", "write_chatter_map"]
 #: Disturbance along the surface normal that starts the simulated free responses [m].
 DISTURBANCE = 1e-5
 
+#: A simulated response that grows past this (100x the disturbance) is chattering; it is
+#: drawn and tabulated up to there, not on to metres of orbit [m].
+ORBIT_LIMIT = 100 * DISTURBANCE
+
 
 @dataclass(frozen=True, eq=False)
 class ChatterStudy:
@@ -81,15 +85,40 @@ class ChatterStudy:
                             for r in self.results)
         return "\n".join(lines + [f"verdict: {verdict}"])
 
-    def write(self, folder) -> list[Path]:
-        """``chatter_time.png`` (time histories) and ``chatter_orbit.png`` (tool orbits in
-        the plane) in ``folder`` (created)."""
+    def shown(self) -> FloatArray:
+        """(2, m, 2) plane coordinates [m] as drawn and tabulated: :attr:`x`, NaN from
+        the first sample where a run leaves :data:`ORBIT_LIMIT` (a chattering run grows
+        exponentially; its later samples are out of any physical range)."""
+        amp = np.linalg.norm(self.x, axis=-1)
+        past = np.maximum.accumulate(amp > ORBIT_LIMIT, axis=1)
+        return np.where(past[..., None], np.nan, self.x)
+
+    def write(self, folder, label: str = "") -> list[Path]:
+        """``chatter_time.csv`` (``t_s`` and the plane coordinates ``<run>_x1_m``,
+        ``<run>_x2_m`` of :meth:`shown`), ``chatter_time.png`` (time histories) and
+        ``chatter_orbit.png`` (tool orbits in the plane) in ``folder`` (created);
+        ``label`` (model and pose) heads the titles."""
+        from ...fe.files import atomic_path
+
         folder = Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
-        runs = [(f"{r.structure.name}: {'stable' if r.is_stable else 'chatter'}, growth "
-                 f"{r.growth_rate:+.2f} 1/s", self.t, x)
-                for r, x in zip(self.results, self.x, strict=True)]
-        return [plot_chatter_time(runs, folder / "chatter_time.png"),
+        shown = self.shown()
+        runs = []
+        for r, x in zip(self.results, shown, strict=True):
+            left = np.isnan(x[:, 0])
+            note = (f", left ±{ORBIT_LIMIT * 1e3:g} mm at {self.t[np.argmax(left)]:.2f} s"
+                    if left.any() else "")
+            runs.append((f"{label + ' ' if label else ''}{r.structure.name}: "
+                         f"{'stable' if r.is_stable else 'chatter'}, growth "
+                         f"{r.growth_rate:+.2f} 1/s{note}", self.t, x))
+        csv = folder / "chatter_time.csv"
+        cols = ["t_s"] + [f"{r.structure.name.strip().lower()}_x{i}_m"
+                          for r in self.results for i in (1, 2)]
+        rows = np.column_stack([self.t] + [x[:, i] for x in shown for i in (0, 1)])
+        with atomic_path(csv) as tmp:
+            np.savetxt(tmp, rows, delimiter=",", comments="", fmt="%.10g",
+                       header=",".join(cols))
+        return [csv, plot_chatter_time(runs, folder / "chatter_time.png"),
                 plot_chatter_orbit(runs, folder / "chatter_orbit.png")]
 
 
@@ -140,10 +169,10 @@ def run_chatter(arm: ArmModel, q: ArrayLike, kcb: float, dir_deg: float = 30.0,
                         np.stack([x for _t, x in sims]))
 
 
-def write_chatter_map(folder, cm: ChatterMap) -> list[Path]:
+def write_chatter_map(folder, cm: ChatterMap, label: str = "") -> list[Path]:
     """``chatter_map.csv`` (:meth:`ChatterMap.write_csv`) and ``chatter_map.png`` (heat map
-    of the limit over q2, q3) in ``folder`` (created)."""
+    of the limit over q2, q3, ``label`` naming model and pose) in ``folder`` (created)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     return [cm.write_csv(folder / "chatter_map.csv"),
-            plot_chatter_map(cm, folder / "chatter_map.png")]
+            plot_chatter_map(cm, folder / "chatter_map.png", label)]

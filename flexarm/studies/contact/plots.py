@@ -65,7 +65,7 @@ def plot_circle_top(pred: CirclePrediction, path, scale: float | None = None,
 
 def plot_circle_polar(pred: CirclePrediction, path, measured=None, label: str = "",
                       compare=()) -> Path:
-    """ISO 230-4-style polar plot of the ball-bar reading (bar-length change) [um].
+    """ISO 230-4-style polar plot of the ball-bar reading (bar-length change) [µm].
 
     The radius axis is ``offset + deviation`` so that negative values stay visible;
     ``measured`` = (angle [rad], bar [m], normal [m], force [N]) from
@@ -90,7 +90,7 @@ def plot_circle_polar(pred: CirclePrediction, path, measured=None, label: str = 
     ax.set_ylim(0, off + span * 1.1)
     ax.set_yticks([off - span, off, off + span])
     ax.set_yticklabels([f"{-span:.0f}", "0", f"+{span:.0f}"])
-    ax.set_title(f"{s.name}: ball-bar length deviation [um] (R = {s.radius * 1e3:.1f} mm)")
+    ax.set_title(f"{s.name}: ball-bar length deviation [µm] (R = {s.radius * 1e3:.1f} mm)")
     ax.legend(loc="lower right", fontsize=7, bbox_to_anchor=(1.15, -0.1))
     return _save(fig, path)
 
@@ -127,13 +127,14 @@ def plot_circle_z(pred: CirclePrediction, path, measured=None, label: str = "",
 
 
 def plot_chatter_time(runs, path) -> Path:
-    """Time histories ``runs = [(label, t (n,), x (n, 2))]`` of the plane coordinates [um]."""
+    """Time histories ``runs = [(label, t (n,), x (n, 2) [m])]`` of the plane coordinates,
+    drawn in µm."""
     plt = pyplot()
     fig, axes = plt.subplots(len(runs), 1, figsize=(8, 2.8 * len(runs)), squeeze=False)
     for ax, (label, t, x) in zip(axes[:, 0], runs, strict=True):
         ax.plot(t, x[:, 0] * 1e6, label="x1 (e1)")
         ax.plot(t, x[:, 1] * 1e6, label="x2 (e2)")
-        ax.set_ylabel("[um]")
+        ax.set_ylabel("displacement [µm]")
         ax.set_title(label, fontsize=9)
         ax.grid(True)
         ax.legend(fontsize=8)
@@ -146,17 +147,22 @@ def plot_chatter_orbit(runs, path) -> Path:
     plt = pyplot()
     fig, axes = plt.subplots(1, len(runs), figsize=(5 * len(runs), 5), squeeze=False)
     for ax, (label, _t, x) in zip(axes[0], runs, strict=True):
-        ax.plot(x[:, 0] * 1e6, x[:, 1] * 1e6, lw=0.6)
-        ax.plot(x[0, 0] * 1e6, x[0, 1] * 1e6, "ro", ms=4)
+        ax.plot(x[:, 0] * 1e6, x[:, 1] * 1e6, lw=0.6, label="tool orbit")
+        ax.plot(x[0, 0] * 1e6, x[0, 1] * 1e6, "ro", ms=4, label="start (disturbance)")
         ax.set_aspect("equal", adjustable="datalim")
-        ax.set_xlabel("x1 [um]")
-        ax.set_ylabel("x2 [um]")
-        ax.set_title(label, fontsize=9)
+        ax.set_xlabel("x1 [µm]")
+        ax.set_ylabel("x2 [µm]")
+        ax.set_title(label, fontsize=8)
+        ax.legend(fontsize=7)
     return _save(fig, path)
 
 
-def plot_chatter_map(cm: ChatterMap, path) -> Path:
-    """Heat map of log10(limit K_c b) over (q2, q3); grey = no limit, white = unreachable."""
+def plot_chatter_map(cm: ChatterMap, path, label: str = "") -> Path:
+    """Heat map of log10(limit K_c b) over (q2, q3): light grey = no limit, white =
+    unreachable, hatched = never recommended (joint limit, singularity), red stars = the
+    recommended poses; ``label`` (model and pose) heads the title."""
+    from matplotlib.patches import Patch
+
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(7, 5.5))
     val = np.where(np.isinf(cm.kcb), np.nan, np.log10(cm.kcb))
@@ -165,9 +171,19 @@ def plot_chatter_map(cm: ChatterMap, path) -> Path:
               aspect="auto", cmap="Greys", vmin=0, vmax=4)
     im = ax.imshow(val, origin="lower", extent=ext, aspect="auto", cmap="viridis")
     fig.colorbar(im, label="log10 limit K_c b [N/m]")
-    for b2, b3, _k in cm.best(3):
-        ax.plot(b3, b2, "r*", ms=10)
+    handles = [Patch(facecolor="0.85", label="no limit (stable for every K_c b)")]
+    if cm.is_excluded is not None and cm.is_excluded.any():
+        ax.contourf(np.degrees(cm.q3), np.degrees(cm.q2), cm.is_excluded.astype(float),
+                    levels=[0.5, 1.5], colors="none", hatches=["//"])
+        handles.append(Patch(facecolor="none", hatch="//", label="joint limit or singular: "
+                                                                 "not recommended"))
+    best = cm.best(3)
+    if best:
+        handles += ax.plot([b3 for _b2, b3, _k in best], [b2 for b2, _b3, _k in best], "r*",
+                           ms=10, ls="none", label="recommended poses")
+    ax.legend(handles=handles, fontsize=7, loc="upper right")
     ax.set_xlabel("q3 [deg]")
     ax.set_ylabel("q2 [deg]")
-    ax.set_title(f"mode-coupling limit, force at {cm.dir_deg:.0f} deg (grey: no limit)")
+    ax.set_title(f"{label + ': ' if label else ''}mode-coupling limit, force at "
+                 f"{cm.dir_deg:.0f} deg", fontsize=10)
     return _save(fig, path)

@@ -104,21 +104,36 @@ def test_text_is_the_best_poses_and_the_recommendation(limits_map):
         assert line == f"best: q2={b2:7.1f} deg q3={b3:7.1f} deg limit K_c b={k:.3g} N/m"
 
 
+def test_best_poses_keep_off_the_joint_limits(limits_map, robot):
+    from flexarm.studies.contact.chatter_map import LIMIT_MARGIN
+
+    assert limits_map.is_excluded[[0, -1], :].all() and limits_map.is_excluded[:, [0, -1]].all()
+    best = limits_map.best(3)
+    assert best
+    for b2, b3, _k in best:
+        q = np.radians([b2, b3])
+        assert np.all(q - robot.lower[1:3] >= LIMIT_MARGIN - 1e-12)
+        assert np.all(robot.upper[1:3] - q >= LIMIT_MARGIN - 1e-12)
+    assert "joint limit" in recommendation(limits_map)
+
+
 def test_write_csv_round_trip(limits_map, tmp_path):
     cm = limits_map
     path = cm.write_csv(tmp_path / "sub" / "chatter_map.csv")
     assert path.read_text().splitlines()[0] == (
-        "q2_deg,q3_deg,kcb_limit_N/m,normal_deg,k_weak_N/m")
+        "q2_deg,q3_deg,kcb_limit_N_per_m,normal_deg,k_weak_N_per_m,excluded")
     rows = np.loadtxt(path, delimiter=",", skiprows=1)
     G2, G3 = np.meshgrid(np.degrees(cm.q2), np.degrees(cm.q3), indexing="ij")
-    assert rows.shape == (49, 5)
-    for col, ref in zip(rows.T, (G2, G3, cm.kcb, cm.normal_deg, cm.k_weak), strict=True):
+    assert rows.shape == (49, 6)
+    for col, ref in zip(rows.T, (G2, G3, cm.kcb, cm.normal_deg, cm.k_weak,
+                                 cm.is_excluded), strict=True):
         np.testing.assert_allclose(col, ref.ravel(), rtol=1e-8, atol=1e-12)
     assert np.isinf(rows[:, 2]).sum() == np.isinf(cm.kcb).sum() > 0
     # the exact bytes of numpy's "%.9g" writer
     ref = tmp_path / "ref.csv"
     np.savetxt(ref, np.column_stack([G2.ravel(), G3.ravel(), cm.kcb.ravel(),
-                                     cm.normal_deg.ravel(), cm.k_weak.ravel()]),
-               delimiter=",", header="q2_deg,q3_deg,kcb_limit_N/m,normal_deg,k_weak_N/m",
-               comments="", fmt="%.9g")
+                                     cm.normal_deg.ravel(), cm.k_weak.ravel(),
+                                     cm.is_excluded.ravel()]),
+               delimiter=",", comments="", fmt="%.9g",
+               header="q2_deg,q3_deg,kcb_limit_N_per_m,normal_deg,k_weak_N_per_m,excluded")
     assert path.read_bytes() == ref.read_bytes()

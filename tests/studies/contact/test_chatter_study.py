@@ -52,7 +52,8 @@ def test_text_and_plots(study, tmp_path):
     assert lines[2].startswith("CNC  : ") and "limit K_c b inf N/m -> stable" in lines[2]
     assert lines[3] == "verdict: robot CHATTERS (mode coupling); CNC stable"
     paths = study.write(tmp_path / "new")
-    assert [p.name for p in paths] == ["chatter_time.png", "chatter_orbit.png"]
+    assert [p.name for p in paths] == ["chatter_time.csv", "chatter_time.png",
+                                       "chatter_orbit.png"]
     assert all(p.stat().st_size > 0 for p in paths)
 
 
