@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import warnings
 
 from ._common import add_robot_args, arm_from, command, floats, out, pose_from, robot_from, wrote
 
@@ -61,10 +62,15 @@ def _run_modes(args) -> int:
     from ..assembly.analyses import modes
     from ..studies.plots import write_mode_energy
 
+    if args.n_modes < 1:
+        raise ValueError(f"--n-modes: list at least 1 mode, got {args.n_modes}")
     robot = robot_from(args)
     q = pose_from(robot, args)  # a bad pose fails before any meshing
     arm = arm_from(args, robot)
     md = modes(arm.model, q)
+    if args.n_modes > md.freq_hz.size:
+        warnings.warn(f"--n-modes {args.n_modes}: the {arm.spec.label} arm has only "
+                      f"{md.freq_hz.size} modes; listing all {md.freq_hz.size}", stacklevel=1)
     out(md.text(arm.robot.joint_names, args.n_modes))
     if args.output:
         wrote(write_mode_energy(args.output, md.freq_hz, md.energy, arm.robot.joint_names,

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from ._common import (
     add_flexible_args,
@@ -106,19 +107,29 @@ def _add_show_arm(p: argparse.ArgumentParser) -> None:
                    help="largest drawn displacement / arm size")
     p.add_argument("--ellipsoid", action="store_true", help="draw the TCP compliance ellipsoid")
     p.add_argument("--interactive", action="store_true", help="open a window (needs a display)")
-    p.add_argument("-o", "--output", default=None, help="picture .png or .gif")
+    p.add_argument("-o", "--output", default=None,
+                   help="picture .png or .gif, or the mode shape on the links' surfaces as "
+                   ".vtu/.vtk for ParaView (point data mode_shape) (default: arm_mode<N>.png)")
 
 
-@command("show-arm", "picture of the assembled arm deformed by a mode at a pose (PNG, GIF)",
-         _add_show_arm)
+@command("show-arm", "picture of the assembled arm deformed by a mode at a pose (PNG, GIF; "
+         "VTU/VTK mesh)", _add_show_arm)
 def _run_show_arm(args) -> int:
-    from ..studies.render_arm import render_arm_mode
+    from ..reduction.render import MODE_EXTENSIONS
+    from ..studies.render_arm import render_arm_mode, write_arm_mode
 
     if args.output is None and not args.interactive:
         args.output = f"arm_mode{args.mode}.png"
+    is_mesh = args.output is not None and Path(args.output).suffix.lower() in MODE_EXTENSIONS
+    if is_mesh and (args.ellipsoid or args.interactive):
+        raise ValueError("--ellipsoid and --interactive draw pictures; a .vtu/.vtk output "
+                         "holds the mode shape only")
     robot = robot_from(args)
     q = pose_from(robot, args)  # a bad pose fails before any meshing
     arm = arm_from(args, robot)
+    if is_mesh:
+        out(f"wrote {write_arm_mode(arm, q, args.mode, args.output, args.pose)}")
+        return 0
     path = render_arm_mode(arm, q, args.mode, args.output,
                            args.ellipsoid, args.pose, amplitude=args.amplitude,
                            interactive=args.interactive)

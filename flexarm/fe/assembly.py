@@ -56,7 +56,9 @@ class _Assembler:
     """Per-mesh cache (pattern, chunks, affinity); the numerics are in kernels and sparsity."""
 
     def __init__(self, mesh: TetMesh):
-        self.mesh = mesh
+        # NaN points or inverted elements would assemble silently into a matrix with
+        # NaNs or negative diagonal terms: refuse them here, for every API caller
+        self.mesh = mesh.check()
 
     @cached_property
     def pattern(self) -> NodePattern:
@@ -125,7 +127,22 @@ def mass_matrix(mesh: TetMesh, rho: float) -> sp.csr_matrix:
 
 
 def assemble(mesh: TetMesh, material: Material) -> tuple[sp.csr_matrix, sp.csr_matrix]:
-    """Stiffness and consistent mass (K [N/m], M [kg]) sharing one sparsity computation."""
+    """Stiffness and consistent mass (K [N/m], M [kg]) sharing one sparsity computation.
+
+    Raises :class:`~flexarm.fe.errors.MeshError` (count and first element) for a mesh
+    with no elements, NaN or infinite coordinates, inverted or zero-volume elements,
+    as :func:`stiffness_matrix` and :func:`mass_matrix` do.
+
+    Examples
+    --------
+    >>> from flexarm.fe.material import MATERIALS
+    >>> mesh = TetMesh.box(divisions=(1, 1, 1))
+    >>> flipped = TetMesh(mesh.points, mesh.tets[:, [1, 0, 2, 3]])
+    >>> assemble(flipped, MATERIALS["steel"])
+    Traceback (most recent call last):
+    ...
+    flexarm.fe.errors.MeshError: mesh: 6 inverted tetrahedra (first: element 0)
+    """
     t0 = time.perf_counter()
     log.info("assembling %d Tet%d elements", mesh.n_tets, 4 if mesh.order == 1 else 10)
     asm = _Assembler(mesh)

@@ -16,9 +16,20 @@ from ..fe.errors import MeshError
 from ..fe.tolerances import tol as fe_tol
 from .tolerances import tol
 
-__all__ = ["repair_surface", "check_surface", "merge_digits"]
+__all__ = ["repair_surface", "check_surface", "merge_digits", "MAX_FILLED_AREA",
+           "MAX_FILLED_VOLUME"]
 
 logger = logging.getLogger(__name__)
+
+#: Hole filling guesses the missing surface: it is refused when the new faces cover more
+#: than this share of the closed surface's area ...
+MAX_FILLED_AREA = 0.01
+#: ... or enclose more than this share of its volume, counted as the volume between the
+#: new faces and each hole's centroid (zero for a flat patch on a flat hole).  A box
+#: missing two triangles of neighbouring sides is "closed" by a diagonal patch that cuts
+#: off a sixth of it; these bounds refuse that, and pass the few-triangle gaps of CAD
+#: exports.
+MAX_FILLED_VOLUME = 0.01
 
 
 def merge_digits() -> int:
@@ -32,18 +43,23 @@ def merge_digits() -> int:
     return int(round(-np.log10(fe_tol.point_merge)))
 
 
-def repair_surface(surface: trimesh.Trimesh) -> tuple[trimesh.Trimesh, tuple[str, ...]]:
+def repair_surface(surface: trimesh.Trimesh,
+                   name: str = "surface") -> tuple[trimesh.Trimesh, tuple[str, ...]]:
     """Repaired copy of a triangle surface and a note for each repair made.
 
     In order: merge coincident vertices (within ``fe_tol.point_merge`` [m]), drop
     degenerate and duplicate faces and unused vertices, fill small holes, make the
     winding consistent and turn inward-pointing normals outward.  The input is not
-    modified.
+    modified.  Holes are filled only when the patch is small: more than
+    :data:`MAX_FILLED_AREA` of the area or :data:`MAX_FILLED_VOLUME` of the volume
+    raises :class:`MeshError` naming ``name`` (the part would become another solid).
 
     Parameters
     ----------
     surface : trimesh.Trimesh
         Triangle surface, coordinates [m].
+    name : str
+        What to call it in messages (usually the file path).
 
     Returns
     -------
@@ -85,7 +101,15 @@ def repair_surface(surface: trimesh.Trimesh) -> tuple[trimesh.Trimesh, tuple[str
         n_faces = len(mesh.faces)
         trimesh.repair.fill_holes(mesh)
         if len(mesh.faces) > n_faces:
-            notes.append(f"filled holes with {_count(len(mesh.faces) - n_faces, 'face')}")
+            area, volume = _filled_shares(mesh, n_faces)
+            what = (f"{_count(len(mesh.faces) - n_faces, 'face')} covering {area:.2%} of the "
+                    f"area and {volume:.2%} of the volume")
+            if area > MAX_FILLED_AREA or volume > MAX_FILLED_VOLUME:
+                raise MeshError(
+                    f"{name}: the surface is open, and closing it takes {what} (at most "
+                    f"{MAX_FILLED_AREA:.0%} and {MAX_FILLED_VOLUME:.0%}): that would be a "
+                    "different solid; close the surface in the CAD export")
+            notes.append(f"filled holes with {what}")
 
     if len(mesh.faces) and not mesh.is_winding_consistent:
         trimesh.repair.fix_winding(mesh)
@@ -99,6 +123,33 @@ def repair_surface(surface: trimesh.Trimesh) -> tuple[trimesh.Trimesh, tuple[str
             mesh.invert()
             notes.append("inverted the normals (they pointed inward)")
     return mesh, tuple(notes)
+
+
+def _filled_shares(mesh: trimesh.Trimesh, n_old: int) -> tuple[float, float]:
+    """Shares [-] of the area and of the volume of ``mesh`` in its faces from ``n_old``
+    on (the hole patches).  The patch volume is that of the tetrahedra from each patch
+    face to the centroid of its hole's boundary vertices, taken unsigned."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    new = np.asarray(mesh.faces[n_old:])
+    pts = np.asarray(mesh.vertices)
+    edges = np.sort(np.asarray(mesh.faces[:n_old])[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    keys, counts = np.unique(edges, axis=0, return_counts=True)
+    rim = keys[counts == 1]  # each hole is one loop of these edges
+    n = len(pts)
+    graph = coo_matrix((np.ones(len(rim)), (rim[:, 0], rim[:, 1])), shape=(n, n))
+    _, label = connected_components(graph, directed=False)
+    on_rim = np.zeros(n, dtype=bool)
+    on_rim[rim.ravel()] = True
+    sums = np.zeros((label.max() + 1, 3))
+    np.add.at(sums, label[on_rim], pts[on_rim])
+    centre = sums / np.maximum(np.bincount(label[on_rim], minlength=len(sums)), 1)[:, None]
+    apex = centre[label[new[:, 0]]]
+    a, b, c = (pts[new[:, k]] - apex for k in range(3))
+    patch = float(np.abs(np.einsum("ij,ij->i", a, np.cross(b, c))).sum()) / 6.0
+    area = float(mesh.area_faces[n_old:].sum()) / float(mesh.area)
+    return area, patch / max(abs(float(mesh.volume)), np.finfo(float).tiny)
 
 
 def _count(n: int, noun: str) -> str:

@@ -109,8 +109,11 @@ def load_surface(path: PathType, units: str = "m", repair: bool = True) -> trime
         Length unit of the file's coordinates.
     repair : bool
         Try :func:`~flexarm.meshes.repair.repair_surface` before checking (what it
-        did is logged).  Coincident vertices are merged either way (an STL stores
-        every triangle's corners separately).
+        did is logged; a filled hole as a warning).  A hole whose patch would exceed
+        :data:`~flexarm.meshes.repair.MAX_FILLED_AREA` of the area or
+        :data:`~flexarm.meshes.repair.MAX_FILLED_VOLUME` of the volume is refused.
+        Coincident vertices are merged either way (an STL stores every triangle's
+        corners separately).
 
     Returns
     -------
@@ -150,9 +153,11 @@ def load_surface(path: PathType, units: str = "m", repair: bool = True) -> trime
     _check_size(mesh, name, units)
     _check_flat(mesh, name)
     if repair:
-        mesh, notes = repair_surface(mesh)
+        mesh, notes = repair_surface(mesh, name)
         for note in notes:
-            logger.info("%s: %s", name, note)
+            # a filled hole changes the geometry: say so; the rest is bookkeeping
+            (logger.warning if note.startswith("filled holes") else logger.info)(
+                "%s: %s", name, note)
     else:
         mesh.merge_vertices(merge_tex=True, merge_norm=True, digits_vertex=merge_digits())
     check_surface(mesh, name, repaired=repair)

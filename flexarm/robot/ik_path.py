@@ -22,12 +22,14 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..fe.errors import ConvergenceError
 from ..fe.typing import FloatArray, IntArray
 from .ik import IKConfig, ik, ik_analytic
 from .kinematics import Chain, link_frames, tcp_frame
 from .paths import SampledPath, quat_to_matrix
 
-__all__ = ["PathIK", "tool_frame", "target_frames", "rapid_conf", "ik_conf", "ik_path"]
+__all__ = ["PathIK", "UnreachableTargetError", "tool_frame", "target_frames", "rapid_conf",
+           "ik_conf", "ik_path"]
 
 log = logging.getLogger(__name__)
 
@@ -122,6 +124,29 @@ def ik_conf(chain: Chain, target: FloatArray, conf, lower: FloatArray,
     return None
 
 
+class UnreachableTargetError(ValueError):
+    """A programmed target, or the path to it, is out of the arm's reach (or needs a joint
+    beyond its limits).  ``line`` is the motion's line in the RAPID file."""
+
+    def __init__(self, message: str, line: int):
+        super().__init__(message)
+        self.line = line
+
+
+def _unreachable(path: SampledPath, i: int, T: FloatArray, is_target: bool) -> str:
+    """Why sample ``i`` of ``path`` (tool frame ``T`` (4, 4) [m]) cannot be reached."""
+    k = int(path.segments[i])
+    p = path.points_mm[i]
+    at = f"({p[0]:.1f}, {p[1]:.1f}, {p[2]:.1f}) mm, {np.linalg.norm(T[:3, 3]):.2f} m from the base"
+    if is_target:
+        return (f"{path.motion_text(k)}: its target at {at}, is out of the arm's reach or "
+                "needs a joint beyond its limits")
+    end = path.points_mm[np.flatnonzero(path.segments == k)[-1]]
+    return (f"{path.motion_text(k)}: the path leaves the arm's reach (or its joint limits) "
+            f"{float(path.arc_length_mm[i]):.0f} mm into the procedure, at {at}; the target is at "
+            f"({end[0]:.1f}, {end[1]:.1f}, {end[2]:.1f}) mm")
+
+
 @dataclass(frozen=True, eq=False)
 class PathIK:
     """Joint angles along a sampled path.
@@ -177,6 +202,11 @@ def ik_path(chain: Chain, path: SampledPath, confs, lower: FloatArray, upper: Fl
     -------
     PathIK
 
+    Raises
+    ------
+    UnreachableTargetError
+        At the first sample out of reach, naming the motion, its targets and line.
+
     Examples
     --------
     >>> from importlib.resources import files
@@ -209,16 +239,23 @@ def ik_path(chain: Chain, path: SampledPath, confs, lower: FloatArray, upper: Fl
     is_target[last] = True
     notes: list[str] = []
     q = np.zeros((n, 6))
+
+    def solve(i: int, near: FloatArray) -> FloatArray:
+        try:
+            return ik(ch, T[i], q_near=near, lower=lo, upper=hi)
+        except (ValueError, ConvergenceError):
+            raise UnreachableTargetError(_unreachable(path, i, T[i], bool(is_target[i])),
+                                         path.lines[seg[i]]) from None
+
     prev = ik_conf(ch, T[0], confs[seg[0]], lo, hi) if is_target[0] and has_conf else None
     if prev is None:
-        near = np.zeros(6) if q_start is None else np.asarray(q_start, dtype=float)
-        prev = ik(ch, T[0], q_near=near, lower=lo, upper=hi)
+        prev = solve(0, np.zeros(6) if q_start is None else np.asarray(q_start, dtype=float))
         if has_conf:
             notes.append("first sample: programmed conf not reachable, took the branch "
                          "nearest q_start")
     q[0] = prev
     for i in range(1, n):
-        q[i] = ik(ch, T[i], q_near=q[i - 1], lower=lo, upper=hi)
+        q[i] = solve(i, q[i - 1])
     reached = rapid_conf(ch, q[last])
     wanted = confs[seg[last]]
     met = np.all(reached == wanted, axis=1) if has_conf else np.ones(len(last), dtype=bool)

@@ -98,6 +98,9 @@ class SampledPath:
         File line of every motion.
     notes : tuple of str
         Approximations made (joint moves drawn straight, corner zones ignored, ...).
+    targets : tuple of tuple of str
+        Names of every motion's targets as written (``CirPoint`` first for ``MoveC``,
+        the destination last); empty when not known.
     """
 
     name: str
@@ -108,6 +111,14 @@ class SampledPath:
     arc_length_mm: FloatArray
     lines: tuple[int, ...]
     notes: tuple[str, ...]
+    targets: tuple[tuple[str, ...], ...] = ()
+
+    def motion_text(self, k: int) -> str:
+        """``"MoveC via Target_80 to Target_90 (line 71)"``: motion ``k`` for messages."""
+        names = self.targets[k] if k < len(self.targets) else ()
+        via = "".join(f" via {t}" for t in names[:-1])
+        to = f" to {names[-1]}" if names else ""
+        return f"{self.kinds[k]}{via}{to} (line {self.lines[k]})"
 
     def __post_init__(self) -> None:
         for attr, dtype in (("points_mm", np.float64), ("quats", np.float64),
@@ -297,7 +308,8 @@ def _assemble(procedure: Procedure, start: Pose, segments: Sequence[tuple[int, _
     motions = procedure.motions
     return SampledPath(procedure.name, np.concatenate(pts), _sign_continuous(np.concatenate(quats)),
                        np.concatenate(segs), tuple(m.kind for m in motions), np.concatenate(arcs),
-                       tuple(m.line for m in motions), tuple(notes))
+                       tuple(m.line for m in motions), tuple(notes),
+                       tuple(tuple(t.name for t in m.targets) for m in motions))
 
 
 def sample_procedure(

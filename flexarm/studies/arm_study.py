@@ -323,9 +323,17 @@ def eta_text(elapsed: float, done: int, total: int) -> str:
 
 
 def write_study(result: StudyResult, out_dir) -> tuple[Path, ...]:
-    """Write ``arm_study.csv``, the two PNGs and ``arm_study_verdict.txt`` to ``out_dir``."""
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    """Write ``arm_study.csv``, the two PNGs and ``arm_study_verdict.txt`` to ``out_dir``
+    (all four or none: they are written aside and moved in together)."""
+    from .demo_folder import atomic_folder
+
+    final = Path(out_dir)
+    with atomic_folder(final) as out:
+        files = _write_study(result, out)
+    return tuple(final / f.name for f in files)
+
+
+def _write_study(result: StudyResult, out: Path) -> tuple[Path, ...]:
     path = out / "arm_study.csv"
     with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
         keys = [k for k in StudyRow.__dataclass_fields__ if k not in ("freq_hz", "C_diag")]

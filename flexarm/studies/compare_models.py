@@ -22,6 +22,7 @@ from ..assembly.build import BuildOptions, Mesher, build_robot
 from ..assembly.emodel import emodel
 from ..assembly.flexible import flexible_arm
 from ..assembly.full_fe import full_fe_analysis, full_fe_bodies
+from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
 from ..fe.typing import FloatArray
 from ..robot.description import Robot, pose_from_string
@@ -91,30 +92,42 @@ class ComparisonReport:
 
 
 def _write(report: ComparisonReport, out: Path, poses: list[str]) -> tuple[Path, ...]:
-    plt = pyplot()
+    """``model_comparison.csv`` (:meth:`ComparisonReport.rows`), the Bode magnitudes
+    behind the plot in ``model_comparison_bode.csv`` (pose, model, ``freq_Hz``,
+    ``abs_Hyy_m_per_N``; SI) and ``model_comparison_bode.png`` (drawn in
+    :data:`~flexarm.studies.plots.RECEPTANCE_UNIT`)."""
+    from .plots import RECEPTANCE_SCALE, RECEPTANCE_UNIT
 
+    plt = pyplot()
     out.mkdir(parents=True, exist_ok=True)
     rows = report.rows()
     keys = list(dict.fromkeys(k for r in rows for k in r))
     path = out / "model_comparison.csv"
-    with path.open("w", newline="") as fh:
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:
         w = csv.DictWriter(fh, keys)
         w.writeheader()
         w.writerows(rows)
+    curves = [r for pose in poses for r in report.results if r.pose == pose and r.bode is not None]
+    bode_csv = out / "model_comparison_bode.csv"
+    with atomic_path(bode_csv) as tmp, tmp.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["pose", "model", "freq_Hz", "abs_Hyy_m_per_N"])
+        w.writerows([r.pose, r.model, f"{f:.10g}", f"{h:.10g}"]
+                    for r in curves for f, h in zip(report.bode_freq_hz, r.bode, strict=True))
     fig, axes = plt.subplots(1, len(poses), figsize=(5 * len(poses), 4), squeeze=False)
     for ax, pose in zip(axes[0], poses, strict=True):
-        for r in report.results:
-            if r.pose == pose and r.bode is not None:
-                ax.loglog(report.bode_freq_hz, r.bode, label=r.model)
+        for r in curves:
+            if r.pose == pose:
+                ax.loglog(report.bode_freq_hz, r.bode * RECEPTANCE_SCALE, label=r.model)
         ax.set(title=f"{pose}: TCP receptance Y/Y", xlabel="frequency [Hz]",
-               ylabel="|H_yy| [m/N]")
+               ylabel=f"|H_yy| [{RECEPTANCE_UNIT}]")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
     png = out / "model_comparison_bode.png"
     fig.savefig(png, dpi=110)
     plt.close(fig)
-    return path, png
+    return path, bode_csv, png
 
 
 def compare_models(
@@ -151,7 +164,8 @@ def compare_models(
     mass_method : {"tets", "surface"}
         E-model mass properties (``"tets"`` = the same solids as the superelements).
     out_dir : path, optional
-        Write ``model_comparison.csv`` and ``model_comparison_bode.png`` there.
+        Write ``model_comparison.csv``, ``model_comparison_bode.csv`` and
+        ``model_comparison_bode.png`` there.
     mesher, progress
         As for :func:`~flexarm.assembly.build.build_robot`.
     """

@@ -15,7 +15,7 @@ import logging
 import time
 from pathlib import Path
 
-from ..fe.files import atomic_path
+from .demo_folder import atomic_folder
 from .demo_measurements import measurement_step
 from .demo_models import emodel_step, flexible_step
 from .demo_part import part_step
@@ -36,7 +36,9 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     Parameters
     ----------
     folder : path-like
-        Output folder (created).
+        Output folder (created).  Everything is written into a temporary sibling folder
+        and moved in when the run is complete (:func:`~flexarm.studies.demo_folder.
+        atomic_folder`); other files already in ``folder`` are kept.
     progress : callable, optional
         Receives one line per step (from a helper thread while a worker runs).
     size : float
@@ -56,16 +58,17 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     """
     progress = progress or log.info
     out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     if jobs > 1 and not _can_spawn():
         progress("demo: no process semaphores here (/dev/shm?), running the steps in order")
         jobs = 1
     run = _run_in_order if jobs <= 1 else _run_parallel
-    steps = run(out, progress, size, part)
-    result = DemoResult.of(out, steps, time.perf_counter() - t0)
-    with atomic_path(out / "index.md") as tmp:
-        tmp.write_text(result.index_text())
+    # built aside and moved in when complete, index.md last: an interrupted run leaves
+    # the folder as it was
+    with atomic_folder(out, last="index.md") as tmp:
+        steps = run(tmp, progress, size, part)
+        result = DemoResult.of(out, steps, time.perf_counter() - t0)
+        (tmp / "index.md").write_text(result.index_text())
     return result
 
 

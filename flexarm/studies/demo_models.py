@@ -28,12 +28,11 @@ def emodel_step(out: Path, progress: Progress) -> StepResult:
     plot and a 60 x 60 stiffness map at P1.
 
     Link mass properties are volume integrals over the same tetrahedral meshes the
-    flexible arm is built from.  Writes ``emodel_poses.csv``, ``emodel_bode_P1.png``,
-    ``emodel_map.csv`` and ``emodel_map/`` into ``out``.
+    flexible arm is built from.  Writes ``emodel_poses.csv``, ``emodel_bode_P1/``
+    (``frf_bode.png`` and the ``frf.csv`` behind it), ``emodel_map.csv`` and
+    ``emodel_map/`` into ``out``.
     """
     from ..assembly.emodel import total_mass
-    from .frf import frf_report
-    from .plots import plot_frf
 
     robot = load_robot()
     progress("arm: link mass properties from tetrahedral meshes (cached after the first run)")
@@ -47,9 +46,7 @@ def emodel_step(out: Path, progress: Progress) -> StepResult:
                  *(f"diag_err_{d}_pct" for d in "xyz")], rows)
 
     progress("arm: Bode plot at P1 and a 60 x 60 stiffness map over joints 2 and 3")
-    bode = frf_report(arm.model, robot.pose("P1"), fmax=200.0, n=500,
-                      title="E-model TCP receptance at P1")
-    plot_frf(out / "emodel_bode_P1.png", bode.freq_hz, bode.H, bode.title)
+    bode_line = _bode(out / "emodel_bode_P1", arm, "P1")
     share_y, map_lines = _joint_map(out, arm, "emodel_map", 60)
     figures["emodel_map_y_weakest_share"] = share_y
     lines = [
@@ -63,7 +60,8 @@ def emodel_step(out: Path, progress: Progress) -> StepResult:
         "|---|---|---|---|---|",
         *table,
         "",
-        "- Table: [emodel_poses.csv](emodel_poses.csv) · Bode at P1: ![bode](emodel_bode_P1.png)",
+        "- Table: [emodel_poses.csv](emodel_poses.csv)",
+        bode_line,
         f"- Joint-space map (q2, q3) at P1's other joints: [emodel_map.csv](emodel_map.csv); "
         f"Y is the least stiff direction on {share_y * 100:.1f}% of the grid.",
         *map_lines,
@@ -181,14 +179,30 @@ def _build_row(b: LinkBuild) -> list:
     return [b.name, b.n_tets, b.n_fe_dofs, b.n_reduced, f1, float(b.seconds)]
 
 
+def _bode(folder: Path, arm: Arm, pose: str) -> str:
+    """Bode plot of the TCP receptance of ``arm`` at ``pose`` up to 200 Hz, with the CSV
+    behind it (:meth:`~flexarm.studies.frf.FrfReport.write`: ``frf_bode.png`` and
+    ``frf.csv`` in ``folder``); the index line."""
+    from .frf import frf_report
+
+    bode = frf_report(arm.model, arm.robot.pose(pose), fmax=200.0, n=500,
+                      title=f"{arm.spec.label} TCP receptance at {pose}")
+    png, csv = bode.write(folder)
+    rel = f"{folder.name}/"
+    return (f"- Bode at {pose}: ![bode]({rel}{png.name}) · data: "
+            f"[{csv.name}]({rel}{csv.name})")
+
+
 def _joint_map(out: Path, arm: Arm, name: str, n: int) -> tuple[float, list[str]]:
     """Stiffness map of ``arm`` on an ``n`` x ``n`` grid over the limits of joints 2 and
-    3, the others at P1 (``<name>.csv`` and heat maps in ``<name>/``): the share of the
-    grid [-] where y is the least stiff direction, and the index lines of the heat maps."""
+    3, the others at P1 (``<name>.csv`` and heat maps in ``<name>/``, titled with the
+    model's label and the pose): the share of the grid [-] where y is the least stiff
+    direction, and the index lines of the heat maps."""
     from ..assembly.maps import limits_map, plot_map, write_csv
 
     robot = arm.robot
-    m = limits_map(arm.model, robot.pose("P1"), robot.lower, robot.upper, n)
+    m = limits_map(arm.model, robot.pose("P1"), robot.lower, robot.upper, n,
+                   label=arm.spec.label, pose_name="P1")
     write_csv(out / f"{name}.csv", m)
     pngs = plot_map(m, out / name, surfaces=False)
     return float(m.least_stiff_share[1]), [f"  - ![{p.stem}]({name}/{p.name})" for p in pngs]

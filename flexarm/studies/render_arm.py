@@ -34,8 +34,14 @@ from ..reduction.couplings import rigid_transport
 from ..reduction.render import _picture_suffix, save_picture
 from ..robot.description import Robot
 
-__all__ = ["LinkField", "superelement_dofs", "link_fields", "mode_fields",
-           "compliance_ellipsoid", "render_arm", "render_arm_mode"]
+__all__ = ["LinkField", "TcpEllipsoid", "superelement_dofs", "link_fields", "mode_fields",
+           "compliance_ellipsoid", "ellipsoid_axes", "ellipsoid_surface", "render_arm",
+           "render_arm_mode", "write_arm_mode", "ELLIPSOID_FLOOR"]
+
+#: Shortest drawn semi-axis of the compliance ellipsoid as a fraction of the longest: a
+#: TCP is often ~100x stiffer along one axis, which would draw a flat disc; the picture
+#: says when an axis was drawn at this floor.
+ELLIPSOID_FLOOR = 0.25
 
 log = logging.getLogger(__name__)
 
@@ -148,21 +154,84 @@ def _polydata(points, faces):
     return pv.PolyData(np.asarray(points, dtype=float), f)
 
 
-def _ellipsoid_mesh(C, center, size: float):
-    import pyvista as pv
+def ellipsoid_axes(C: ArrayLike, length: float,
+                   floor: float = ELLIPSOID_FLOOR) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Principal compliances (3,) [m/N] (descending), directions (3, 3) (columns, a
+    right-handed frame) and drawn semi-axes (3,) [m] of the TCP compliance ellipsoid.
 
+    The drawn semi-axes are proportional to the principal compliances, the longest
+    ``length`` [m]; none is drawn shorter than ``floor * length``.
+
+    >>> r, V, a = ellipsoid_axes(np.diag([4.0, 2.0, 0.01, 0, 0, 0]), 0.2)
+    >>> a.round(3).tolist(), round(float(np.linalg.det(V)), 12)
+    ([0.2, 0.1, 0.05], 1.0)
+    """
     radii, V = compliance_ellipsoid(C)
-    r = size * np.clip(radii / radii[0], 0.05, None)
-    ell = pv.ParametricEllipsoid(*r)
-    T = np.eye(4)
-    T[:3, :3] = V * np.sign(np.linalg.det(V))
-    T[:3, 3] = center
-    return ell.transform(T, inplace=False), radii
+    if not radii[0] > 0:
+        raise ValueError(f"the TCP compliance has no positive principal value: {radii}")
+    V = V * np.sign(np.linalg.det(V))
+    return radii, V, length * np.clip(radii / radii[0], floor, None)
+
+
+def ellipsoid_surface(center: ArrayLike, V: ArrayLike, semi_axes: ArrayLike,
+                      n: int = 24) -> tuple[FloatArray, IntArray]:
+    """Triangulated ellipsoid ``center + V diag(semi_axes) s``, ``s`` on the unit sphere.
+
+    Returns the points (p, 3) [m] and triangles (f, 3): ``n`` meridians, ``n // 2``
+    latitude bands and one pole point at each end.
+
+    >>> pts, tri = ellipsoid_surface([1.0, 0, 0], np.eye(3), [3.0, 2.0, 1.0], n=8)
+    >>> pts.min(axis=0).round(6).tolist(), pts.max(axis=0).round(6).tolist()
+    ([-2.0, -2.0, -1.0], [4.0, 2.0, 1.0])
+    """
+    n_lat = max(n // 2, 2)
+    theta = np.linspace(0.0, np.pi, n_lat + 1)[1:-1]
+    phi = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    T, P = np.meshgrid(theta, phi, indexing="ij")
+    ring = np.column_stack([(np.sin(T) * np.cos(P)).ravel(), (np.sin(T) * np.sin(P)).ravel(),
+                            np.cos(T).ravel()])
+    unit = np.vstack([[0.0, 0.0, 1.0], ring, [0.0, 0.0, -1.0]])
+    pts = np.asarray(center, float) + (unit * np.asarray(semi_axes, float)) @ np.asarray(V).T
+    j = np.arange(n)
+    k = (j + 1) % n
+    top = np.column_stack([np.zeros(n, int), 1 + j, 1 + k])
+    rows = np.arange(n_lat - 2)[:, None] * n + 1
+    a, b, c, d = rows + j, rows + k, rows + n + j, rows + n + k
+    bands = np.vstack([np.column_stack([a.ravel(), c.ravel(), b.ravel()]),
+                       np.column_stack([b.ravel(), c.ravel(), d.ravel()])])
+    last = 1 + (n_lat - 2) * n
+    south = len(unit) - 1
+    bottom = np.column_stack([np.full(n, south), last + k, last + j])
+    return pts, np.vstack([top, bands, bottom]).astype(np.int64)
+
+
+@dataclass(frozen=True, eq=False)
+class TcpEllipsoid:
+    """What :func:`render_arm` draws at the TCP.
+
+    Attributes
+    ----------
+    C : (6, 6) float
+        TCP compliance [m/N, rad/(N m)], base frame.
+    tcp : (3,) float
+        TCP position at the pose [m], base frame (the ellipsoid's centre).
+    flange : (3,) float
+        The tool's mounting point [m]: the tool is drawn as a line from here to ``tcp``.
+    u : (6,) float
+        TCP motion (translation, small rotation [rad]) of the drawn field, scaled as
+        :attr:`LinkField.u`: the ellipsoid moves with the TCP, the tool rigidly with it.
+    """
+
+    C: FloatArray
+    tcp: FloatArray
+    flange: FloatArray
+    u: FloatArray
 
 
 def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
                amplitude: float = 0.06, n_frames: int = 20, interactive: bool = False,
-               window_size=(1024, 768), ellipsoid: tuple | None = None) -> Path | None:
+               window_size=(1024, 768), ellipsoid: TcpEllipsoid | tuple | None = None,
+               ) -> Path | None:
     """Draw the links deformed by their fields, coloured by |u| (largest = 1).
 
     Parameters
@@ -172,9 +241,10 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
         ``.png`` or ``.gif`` (``n_frames`` of one harmonic oscillation).
     amplitude : float
         Largest drawn displacement as a fraction of the arm's bounding-box diagonal.
-    ellipsoid : (C (6, 6), tcp (3,) [m]), optional
-        TCP compliance drawn as its principal ellipsoid at the TCP (largest semi-axis
-        = 12 % of the arm size).
+    ellipsoid : TcpEllipsoid or (C (6, 6), tcp (3,) [m]), optional
+        TCP compliance drawn as its principal ellipsoid centred at the (moving) TCP, the
+        longest semi-axis 10 % of the arm size (:func:`ellipsoid_axes`), with the tool
+        drawn from the flange to the TCP.
     interactive : bool
         Also open a window (needs :func:`~flexarm.reduction.render.has_display`).
     """
@@ -186,6 +256,14 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
     diag = float(np.linalg.norm(np.ptp(allp, axis=0)))
     peak = max(float(np.linalg.norm(f.u, axis=1).max()) for f in live)
     scale = amplitude * diag / max(peak, np.finfo(float).tiny)
+    if ellipsoid is not None and not isinstance(ellipsoid, TcpEllipsoid):
+        C, tcp = ellipsoid
+        ellipsoid = TcpEllipsoid(np.asarray(C), np.asarray(tcp, float), np.asarray(tcp, float),
+                                 np.zeros(6))
+    # vertical, right: the title sits above the bar, clear of the tick labels beside it
+    bar = {"title": "u / u_max", "vertical": True, "position_x": 0.86,
+           "position_y": 0.2, "height": 0.55, "width": 0.05, "title_font_size": 14,
+           "label_font_size": 12, "n_labels": 5, "fmt": "%.2f"}
 
     def scene(off_screen: bool):
         p = pv.Plotter(off_screen=off_screen, window_size=window_size)
@@ -197,14 +275,15 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
             m.points = f.points + scale * f.u
             m["|u| / max"] = np.linalg.norm(f.u, axis=1) / max(peak, np.finfo(float).tiny)
             p.add_mesh(m, scalars="|u| / max", cmap="viridis", clim=(0.0, 1.0),
-                       show_scalar_bar=k == 0)
-            moving.append((m, f))
+                       show_scalar_bar=k == 0, scalar_bar_args=bar)
+            moving.append((m, f.points, f.u))
+        # room between the bar's title and its top tick label (VTK puts them flush)
+        p.scalar_bar.SetVerticalTitleSeparation(int(0.03 * window_size[1]))
         if ellipsoid is not None:
-            ell, radii = _ellipsoid_mesh(ellipsoid[0], ellipsoid[1], 0.12 * diag)
-            p.add_mesh(ell, color="tomato", opacity=0.6)
-            p.add_text("TCP compliance [mm/kN]: " + ", ".join(f"{1e6 * r:.3g}" for r in radii),
-                       position="lower_left", font_size=9)
-        p.add_title(title, font_size=11)
+            moving += _add_ellipsoid(p, ellipsoid, 0.1 * diag, scale)
+        # the title fits the window: ~1.6 px per point per character at VTK's font
+        p.add_title(title, font_size=int(min(11, 0.95 * window_size[0] / (1.6 * max(len(title),
+                                                                                  1)))))
         p.view_isometric()
         p.reset_camera()
         return p, moving
@@ -214,8 +293,8 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
         p, moving = scene(True)
 
         def move(phase):
-            for m, f in moving:
-                m.points = f.points + phase * scale * f.u
+            for m, points, u in moving:
+                m.points = points + phase * scale * u
 
         out = save_picture(p, path, n_frames, move)
     if interactive:
@@ -223,20 +302,107 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
     return out
 
 
+def _add_ellipsoid(p, e: TcpEllipsoid, length: float, scale: float) -> list[tuple]:
+    """Add the ellipsoid, the tool line and the TCP caption to plotter ``p``; the meshes
+    that move with the TCP as ``(mesh, points, u)``."""
+    import pyvista as pv
+
+    radii, V, axes = ellipsoid_axes(e.C, length)
+    pts, tri = ellipsoid_surface(e.tcp, V, axes)
+    ell = _polydata(pts, tri)
+    u, theta = np.asarray(e.u, float)[:3], np.asarray(e.u, float)[3:]
+    flange, tcp = np.asarray(e.flange, float), np.asarray(e.tcp, float)
+    tool = pv.Line(flange, tcp)
+    tool_u = np.array([u + np.cross(theta, flange - tcp), u])
+    floored = radii / radii[0] < ELLIPSOID_FLOOR
+    drawn = ell.copy()
+    drawn.points = pts + scale * u
+    p.add_mesh(drawn, color="tomato", opacity=0.5, smooth_shading=True, specular=0.4)
+    # the principal axes through the TCP make the ellipsoid read as a solid from any view
+    ends = np.asarray(e.tcp, float) + np.concatenate([-(V * axes).T, (V * axes).T])
+    axis_lines = pv.PolyData(ends, lines=np.array([[2, k, k + 3] for k in range(3)]).ravel())
+    shown_axes = axis_lines.copy()
+    shown_axes.points = ends + scale * u
+    p.add_mesh(shown_axes, color="darkred", line_width=2)
+    shown_tool = tool.copy()
+    shown_tool.points = tool.points + scale * tool_u
+    p.add_mesh(shown_tool, color="black", line_width=3)
+    note = (f" (axes below {ELLIPSOID_FLOOR:.0%} of the longest drawn at {ELLIPSOID_FLOOR:.0%})"
+            if floored.any() else "")
+    p.add_text("TCP compliance ellipsoid, principal values [mm/kN]: "
+               + ", ".join(f"{1e6 * r:.3g}" for r in radii)
+               + f"\nlongest semi-axis drawn {length * 1e3:.0f} mm{note}; tool: black line",
+               position="lower_left", font_size=9)
+    return [(drawn, pts, np.broadcast_to(u, pts.shape)), (shown_axes, ends, np.tile(u, (6, 1))),
+            (shown_tool, tool.points.copy(), tool_u)]
+
+
+def _tcp_ellipsoid(arm: Arm, q: ArrayLike, x: ArrayLike) -> TcpEllipsoid:
+    """TCP compliance, TCP, tool flange and the TCP motion of arm coordinates ``x``."""
+    from ..assembly.analyses import tcp_compliance
+
+    sm = system_matrices(arm.model, np.asarray(q, dtype=float))
+    c = arm.model.chain.tcp_body
+    frame = sm.frames[c] @ arm.model.chain.tool
+    return TcpEllipsoid(tcp_compliance(arm.model, q), frame[:3, 3], sm.frames[c, :3, 3],
+                        sm.G_tcp @ np.asarray(x, float))
+
+
 def render_arm_mode(arm: Arm, q: ArrayLike, mode: int = 1, path=None, ellipsoid: bool = False,
                     pose_name: str = "", **options) -> Path | None:
     """Picture (PNG/GIF) of mode ``mode`` of ``arm`` (:func:`~flexarm.assembly.arm.build_arm`)
     at pose ``q`` [rad], model and frequency in the title.
 
-    ``ellipsoid`` adds the TCP compliance ellipsoid; ``options`` go to :func:`render_arm`.
+    ``ellipsoid`` adds the TCP compliance ellipsoid at the TCP; ``options`` go to
+    :func:`render_arm`.
     """
-    from ..assembly.analyses import tcp_compliance
-    from ..robot.kinematics import tcp_frame
+    from ..assembly.analyses import modes
 
     freq, fields = mode_fields(arm.robot, arm.model, q, mode, arm.builds)
-    title = (f"{arm.robot.name} {pose_name} {arm.spec.label}: mode {mode}, {freq:.1f} Hz"
-             .replace("  ", " "))
     ell = None
     if ellipsoid:
-        ell = (tcp_compliance(arm.model, q), tcp_frame(arm.model.chain, q)[:3, 3])
-    return render_arm(fields, path, title, ellipsoid=ell, **options)
+        ell = _tcp_ellipsoid(arm, q, modes(arm.model, q).shapes[:, mode - 1])
+    return render_arm(fields, path, _title(arm, pose_name, mode, freq), ellipsoid=ell,
+                      **options)
+
+
+def _title(arm: Arm, pose_name: str, mode: int, freq: float) -> str:
+    return (f"{arm.robot.name} {pose_name} {arm.spec.label}: mode {mode}, {freq:.1f} Hz"
+            .replace("  ", " "))
+
+
+def write_arm_mode(arm: Arm, q: ArrayLike, mode: int, path, pose_name: str = "") -> Path:
+    """Mode ``mode`` (1-based) of ``arm`` at pose ``q`` [rad] as a ``.vtu`` or ``.vtk``
+    surface mesh of all links (base frame, undeformed points at the pose [m]).
+
+    Point data ``mode_shape`` (p, 3) is the recovered displacement of each vertex,
+    scaled so that the largest is 1, and ``magnitude`` its length; cell data ``link``
+    is the index of each triangle's link in ``arm.robot.links``, and ``freq_hz`` the
+    mode's frequency [Hz] (the same on every cell).  In ParaView: *Warp By Vector* on
+    ``mode_shape``.
+    """
+    import meshio
+
+    from ..fe.files import atomic_path
+    from ..reduction.render import MODE_EXTENSIONS
+
+    path = Path(path)
+    if path.suffix.lower() not in MODE_EXTENSIONS:
+        raise ValueError(f"mode-shape file must be {' or '.join(MODE_EXTENSIONS)}, got '{path}'")
+    freq, fields = mode_fields(arm.robot, arm.model, q, mode, arm.builds)
+    live = [(k, f) for k, f in enumerate(fields) if len(f.points)]
+    offsets = np.cumsum([0] + [len(f.points) for _, f in live])
+    points = np.vstack([f.points for _, f in live])
+    faces = np.vstack([f.faces + o for (_, f), o in zip(live, offsets, strict=False)])
+    u = np.vstack([f.u for _, f in live])
+    u = u / max(float(np.linalg.norm(u, axis=1).max()), np.finfo(float).tiny)
+    link = np.concatenate([np.full(len(f.faces), k, dtype=np.int32) for k, f in live])
+    mesh = meshio.Mesh(points, [("triangle", faces.astype(np.int64))],
+                       point_data={"mode_shape": u, "magnitude": np.linalg.norm(u, axis=1)},
+                       # meshio drops VTU/VTK field data: the frequency rides as cell data
+                       cell_data={"link": [link], "freq_hz": [np.full(len(link), freq)]})
+    with atomic_path(path) as tmp:
+        meshio.write(tmp, mesh, file_format="vtu" if path.suffix.lower() == ".vtu" else "vtk")
+    log.info("wrote %s (%s, mode %d at %s)", path, _title(arm, pose_name, mode, freq), mode,
+             pose_name or "the pose")
+    return path

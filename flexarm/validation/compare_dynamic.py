@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import csv
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -21,6 +22,7 @@ from ..assembly.analyses import frf
 from ..assembly.effects import apply_effects
 from ..assembly.linkflex import links_arm, split_links
 from ..assembly.system import ArmModel
+from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
 from ..fe.text import text_table
 from .compare import write_rows
@@ -31,6 +33,11 @@ from .tolerances import tol
 
 __all__ = ["ModalError", "ModalComparison", "FrfError", "FrfComparison", "compare_modal",
            "compare_frf", "write_modal_report", "write_frf_report"]
+
+
+#: Receptance on plots: mm/kN (= µm/N), as in every other human-facing output (the
+#: ``studies`` plots use the same pair); files keep m/N.
+RECEPTANCE_UNIT, RECEPTANCE_SCALE = "mm/kN", 1e6
 
 
 def _model(arm: ArmModel, effects, flexible):
@@ -268,12 +275,14 @@ def write_modal_report(folder, cmp: ModalComparison) -> list[Path]:
 
 
 def write_frf_report(folder, cmp: FrfComparison) -> list[Path]:
-    """``frf_errors.csv`` and ``frf_overlay.png`` (magnitude and phase per pair)."""
+    """``frf_errors.csv``, ``frf_overlay.png`` (magnitude in :data:`RECEPTANCE_UNIT` and
+    phase per pair) and ``frf_overlay.csv``, the plotted lines in SI (pose, input, output,
+    ``freq_Hz``, real and imaginary parts of the measured and model receptance [m/N])."""
     plt = pyplot()
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    out = [folder / "frf_errors.csv", folder / "frf_overlay.png"]
+    out = [folder / "frf_errors.csv", folder / "frf_overlay.png", folder / "frf_overlay.csv"]
     write_rows(out[0], FrfError, cmp.table)
     groups = _groups(cmp.data)
     n = len(groups)
@@ -282,14 +291,29 @@ def write_frf_report(folder, cmp: FrfComparison) -> list[Path]:
         f = cmp.data.freq_hz[rows]
         for H, style, lab in ((cmp.data.receptance[rows], "o", "measured"),
                               (cmp.predicted[rows], "-", "model")):
-            axes[0, c].semilogy(f, np.abs(H), style, ms=2.5, label=lab)
+            axes[0, c].semilogy(f, np.abs(H) * RECEPTANCE_SCALE, style, ms=2.5, label=lab)
             axes[1, c].plot(f, np.degrees(np.angle(H)), style, ms=2.5)
         axes[0, c].set_title(key, fontsize=8)
         axes[1, c].set_xlabel("frequency [Hz]", fontsize=8)
-    axes[0, 0].set_ylabel("|H| [m/N]")
+    axes[0, 0].set_ylabel(f"|H| [{RECEPTANCE_UNIT}]")
     axes[1, 0].set_ylabel("phase [deg]")
     axes[0, 0].legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out[1], dpi=90)
     plt.close(fig)
+    _write_overlay(out[2], cmp, groups)
     return out
+
+
+def _write_overlay(path: Path, cmp: FrfComparison, groups: dict) -> None:
+    """The lines of ``frf_overlay.png`` in SI, pair by pair in the plot's order."""
+    d = cmp.data
+    order = np.concatenate(list(groups.values())) if groups else np.zeros(0, int)
+    meas, pred = np.asarray(d.receptance)[order], cmp.predicted[order]
+    cols = [np.asarray(d.freq_hz)[order], meas.real, meas.imag, pred.real, pred.imag]
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["pose", "input", "output", "freq_Hz", "re_H_meas_m_per_N",
+                    "im_H_meas_m_per_N", "re_H_model_m_per_N", "im_H_model_m_per_N"])
+        w.writerows([d.poses[k], d.inputs[k], d.outputs[k], *(f"{v:.10g}" for v in r)]
+                    for k, r in zip(order, np.column_stack(cols), strict=True))

@@ -21,3 +21,24 @@ def test_modes_frf_map_write_pngs(tmp_path, capsys):
 def test_bad_pose_is_one_line_error(capsys):
     assert main(["compliance", "--mass", "surface", "--pose", "P9"]) == 2
     assert "pose must be one of" in capsys.readouterr().err
+
+
+def test_modes_beyond_the_model_say_so_in_one_line(capsys):
+    """-n above the arm's number of modes lists them all and says so in one line."""
+    from flexarm.assembly.analyses import modes
+    from flexarm.assembly.arm import ArmSpec, build_arm
+    from flexarm.robot import load_robot
+
+    robot = load_robot()
+    n = modes(build_arm(robot, ArmSpec(mass="surface")).model, robot.pose("P1")).freq_hz.size
+    assert main(["modes", "--mass", "surface", "--pose", "P1", "-n", "500"]) == 0
+    cap = capsys.readouterr()
+    rows = [r for r in cap.out.splitlines()[1:] if r.split()[0].isdigit()]
+    assert len(rows) == n
+    assert cap.err.strip().splitlines() == [
+        f"warning: --n-modes 500: the E-model arm has only {n} modes; listing all {n}"]
+    assert main(["modes", "--mass", "surface", "--pose", "P1", "-n", "3"]) == 0
+    cap = capsys.readouterr()
+    assert "warning" not in cap.err and f"... {n - 3} more modes" in cap.out
+    assert main(["modes", "--mass", "surface", "--pose", "P1", "-n", "0"]) == 2
+    assert capsys.readouterr().err.strip().endswith("--n-modes: list at least 1 mode, got 0")

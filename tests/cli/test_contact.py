@@ -71,3 +71,23 @@ def test_bad_circle_options_are_one_line_errors(capsys):
     assert "--loads must be comma-separated numbers" in capsys.readouterr().err
     assert main(["circle", "--effect", "backlash:j9=1mrad"]) == 2
     assert "joint 9 outside 1..6" in capsys.readouterr().err
+
+
+def test_circle_unreachable_target_is_one_line_naming_file_target_and_line(tmp_path, capsys):
+    """A target moved to 8.8 m: exit 2, one line with the file, procedure, target and line,
+    nothing written."""
+    from importlib.resources import files
+
+    text = (files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod").read_text()
+    far = tmp_path / "far.mod"
+    far.write_text(text.replace("Target_50:=[[883.561", "Target_50:=[[8800.0"))
+    out = tmp_path / "out"
+    rc = main(["circle", "--mass", "surface", "--rapid", str(far), "--proc", "Path_20",
+               "--loads", "0,200", "-o", str(out)])
+    err = capsys.readouterr().err.strip().splitlines()
+    line = next(k for k, ln in enumerate(text.splitlines(), start=1)
+                if "PROC Path_20" in ln) + 2  # its second motion: MoveL Target_50
+    assert rc == 2 and len(err) == 1 and "Traceback" not in err[0]
+    assert err[0].startswith(f"flexarm circle: error: {far}: Path_20: MoveL to Target_50 "
+                             f"(line {line}): the path leaves the arm's reach")
+    assert not out.exists()

@@ -190,3 +190,47 @@ def test_quadrature_degree_is_not_overstated(degree):
             got = w @ (pts[:, 0] ** a * pts[:, 1] ** b * pts[:, 2] ** c)
             errors.append(abs(got - exact) / exact)
     assert max(errors) > 1e-6
+
+
+def _faulty(fault: str, order: int) -> TetMesh:
+    """A 2 x 2 x 2 box (48 elements) with one kind of fault at elements 5 and 17."""
+    box = TetMesh.box(divisions=(2, 2, 2), order=order)
+    pts, tets = box.points.copy(), box.tets.copy()
+    if fault == "nan":
+        pts[tets[5, 0], 1] = np.nan
+    elif fault == "inverted":
+        for e in (5, 17):
+            tets[e, :4] = tets[e, [1, 0, 2, 3]]
+            if order == 2:  # the mid-edge nodes follow their swapped corners
+                tets[e, 4:] = tets[e, [4, 6, 5, 8, 7, 9]]
+    elif fault == "flat":
+        for e in (5, 17):
+            pts[tets[e, 3]] = pts[tets[e, :3]].mean(axis=0)  # also flattens its neighbours
+    return TetMesh(pts, tets)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+@pytest.mark.parametrize("call", ["assemble", "stiffness_matrix", "mass_matrix"])
+@pytest.mark.parametrize(("fault", "message"), [
+    ("nan", "mesh: node coordinates contain NaN or inf"),
+    ("inverted", "mesh: 2 inverted tetrahedra (first: element 5)"),
+    ("flat", "zero-volume tetrahedra (first: element"),
+])
+def test_api_assembly_refuses_a_broken_mesh(fault, message, call, order, steel):
+    """Without the check these assemble: NaN entries, or K with negative diagonal terms."""
+    import flexarm.fe.assembly as fa
+    from flexarm.fe.errors import MeshError
+
+    mesh = _faulty(fault, order)
+    args = (mesh, steel.rho) if call == "mass_matrix" else (mesh, steel)
+    with pytest.raises(MeshError) as err:
+        getattr(fa, call)(*args)
+    assert message in str(err.value) and "\n" not in str(err.value)
+    if fault == "flat":  # every flattened element is counted, the first named
+        vol = mesh.volumes()
+        bad = np.flatnonzero(np.abs(vol) <= 1e-12 * np.abs(vol).mean())
+        assert str(err.value) == (f"mesh: {bad.size} zero-volume tetrahedra "
+                                  f"(first: element {bad[0]})")
+    # the same box without the fault assembles, with K's diagonal positive
+    K = fa.stiffness_matrix(_faulty("none", order), steel)
+    assert K.diagonal().min() > 0

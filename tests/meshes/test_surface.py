@@ -76,13 +76,50 @@ def test_duplicated_vertices_and_faces_are_merged(tmp_path, caplog):
     assert "removed 1 duplicate face" in caplog.text
 
 
-def test_small_hole_is_filled(tmp_path):
-    box = bar_surface(0.2, 0.1, 0.05)
-    box.update_faces(np.arange(11))
-    path = _write(tmp_path / "eleven.stl", box)
-    assert load_surface(path).volume == pytest.approx(1e-3, rel=1e-6)
-    with pytest.raises(MeshError, match=r"open \(3 boundary edges\); try repair=True"):
+def test_small_hole_is_filled_with_a_warning(tmp_path, caplog):
+    box = bar_surface(0.2, 0.1, 0.05).subdivide().subdivide().subdivide()  # 768 faces
+    keep = np.ones(len(box.faces), dtype=bool)
+    keep[[0, 377]] = False  # two separate one-triangle holes
+    share = box.area_faces[~keep].sum() / box.area  # what the patch must cover
+    box.update_faces(keep)
+    path = _write(tmp_path / "gaps.stl", box)
+    with caplog.at_level(logging.INFO, logger="flexarm.meshes"):
+        assert load_surface(path).volume == pytest.approx(1e-3, rel=1e-6)  # float32 STL
+    warned = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
+    assert warned == [f"{path}: filled holes with 2 faces covering {share:.2%} of the area "
+                      "and 0.00% of the volume"]
+    with pytest.raises(MeshError, match=r"open \(6 boundary edges\); try repair=True"):
         load_surface(path, repair=False)
+
+
+@pytest.mark.parametrize(("removed", "volume_error"), [
+    ([1, 3], -1 / 6),  # two triangles of neighbouring sides: a diagonal patch
+    ([4, 7], -1 / 6),
+    ([0, 1], 0.0),  # a whole side: the right patch, but a guess at 13 % of the area
+    ([10], 0.0),  # half an end
+])
+def test_large_fill_is_refused_naming_the_file(tmp_path, removed, volume_error):
+    """The 800 x 100 x 100 mm box: trimesh would close each of these holes, some into a
+    solid 17 % smaller (the volume it would give is checked independently here)."""
+    import flexarm.meshes.repair as rp
+
+    box = trimesh.creation.box((800.0, 100.0, 100.0))
+    keep = np.ones(12, dtype=bool)
+    keep[removed] = False
+    open_box = box.copy()
+    open_box.update_faces(keep)
+    closed = open_box.copy()
+    trimesh.repair.fill_holes(closed)
+    assert closed.is_watertight
+    assert (abs(closed.volume) - box.volume) / box.volume == pytest.approx(volume_error,
+                                                                             abs=1e-9)
+    path = _write(tmp_path / "bar.stl", open_box)
+    with pytest.raises(MeshError) as err:
+        load_surface(path, units="mm")
+    msg = str(err.value)
+    assert msg.startswith(f"{path}: the surface is open, and closing it takes ")
+    area = float(msg.split(" covering ")[1].split("%")[0]) / 100
+    assert area > rp.MAX_FILLED_AREA and "different solid" in msg and "\n" not in msg
 
 
 def test_flipped_face_fixed_by_repair_and_refused_without(tmp_path):

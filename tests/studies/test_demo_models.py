@@ -3,6 +3,9 @@ E-model), and both steps whole (slow: every link is meshed)."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
+import matplotlib.figure
 import numpy as np
 import pytest
 
@@ -11,6 +14,7 @@ from flexarm.robot import load_robot
 from flexarm.studies.compliance import compliance_report
 from flexarm.studies.demo_models import (
     POSES,
+    _bode,
     _emodel_poses,
     _joint_map,
     emodel_step,
@@ -23,6 +27,20 @@ def emodel_arm():
     return build_arm(load_robot(), ArmSpec(mass="surface"))
 
 
+@pytest.fixture()
+def figures(monkeypatch):
+    """``{png name: Figure}`` of every figure saved while the test runs."""
+    saved = {}
+    real = matplotlib.figure.Figure.savefig
+
+    def savefig(self, fname, *args, **kwargs):
+        saved[Path(fname).name] = self
+        return real(self, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
+    return saved
+
+
 def test_emodel_pose_rows_come_from_the_compliance_report(emodel_arm):
     rows, table, figures = _emodel_poses(emodel_arm)
     assert [r[0] for r in rows] == list(POSES) and all(len(r) == 14 for r in rows)
@@ -33,8 +51,31 @@ def test_emodel_pose_rows_come_from_the_compliance_report(emodel_arm):
     assert table[0].startswith("| P1 | ") and " | Y | " in table[0]
 
 
-def test_joint_map_writes_csv_and_heat_maps(emodel_arm, tmp_path):
+def test_bode_csv_is_the_plotted_curve(emodel_arm, tmp_path, figures):
+    line = _bode(tmp_path / "emodel_bode_P1", emodel_arm, "P1")
+    csv = tmp_path / "emodel_bode_P1" / "frf.csv"
+    head = csv.read_text().splitlines()[0].split(",")
+    d = dict(zip(head, np.loadtxt(csv, delimiter=",", skiprows=1).T, strict=True))
+    amp = figures["frf_bode.png"].axes[0]
+    for curve, name in zip(amp.get_lines(), "xyz", strict=True):
+        h = d[f"re_H{name}{name}_m_per_N"] + 1j * d[f"im_H{name}{name}_m_per_N"]
+        np.testing.assert_allclose(curve.get_xdata(), d["freq_Hz"], rtol=1e-9)
+        np.testing.assert_allclose(curve.get_ydata(), np.abs(h) * 1e6, rtol=1e-9)
+    # the low end of the curve (0.5 Hz, well below f1) is the compliance the pose table
+    # reports, in mm/kN: quasi-static amplification 1/(1 - (f/f1)^2) is under 1 %
+    C = compliance_report(emodel_arm.model, emodel_arm.robot.pose("P1")).C
+    assert amp.get_lines()[1].get_ydata()[0] == pytest.approx(C[1, 1] * 1e6, rel=1e-2)
+    assert amp.get_title() == "E-model TCP receptance at P1"
+    assert "emodel_bode_P1/frf_bode.png" in line and "emodel_bode_P1/frf.csv" in line
+
+
+def test_joint_map_writes_csv_and_heat_maps(emodel_arm, tmp_path, figures):
     share_y, lines = _joint_map(tmp_path, emodel_arm, "m", 3)
+    # every heat map names the model and the pose, and marks the pose
+    for k in ("Kxx", "Kyy", "Kzz", "f1"):
+        ax = figures[f"map_{k}_heat.png"].axes[0]
+        assert ax.get_title().startswith("E-model ") and ax.get_title().endswith(" at P1")
+        assert "pose P1" in [t.get_text() for t in ax.get_legend().get_texts()]
     assert 0.0 <= share_y <= 1.0
     assert len((tmp_path / "m.csv").read_text().splitlines()) == 1 + 3 * 3
     assert lines == [f"  - ![map_{k}_heat](m/map_{k}_heat.png)"

@@ -16,11 +16,15 @@ from flexarm.assembly.system import system_matrices
 from flexarm.reduction import interfaces, reduce_part
 from flexarm.reduction.couplings import rigid_transport
 from flexarm.studies.render_arm import (
+    ELLIPSOID_FLOOR,
     compliance_ellipsoid,
+    ellipsoid_axes,
+    ellipsoid_surface,
     link_fields,
     mode_fields,
     render_arm_mode,
     superelement_dofs,
+    write_arm_mode,
 )
 
 from ..box_arm import box_mesher
@@ -173,3 +177,126 @@ def test_cli_show_arm(box_robot, cached_arm, tmp_path, monkeypatch, gl):
     assert seen == {"model": "cb"} and out.stat().st_size > 0
     assert main(["show-arm", "--robot", str(box_robot.source), "--mode", "99",
                  "-o", str(out)]) == 2  # clear error, no traceback
+
+
+def test_ellipsoid_axes_are_the_principal_compliances_to_a_stated_length():
+    R = np.linalg.qr(np.arange(1.0, 10.0).reshape(3, 3) + np.eye(3))[0]
+    C = np.zeros((6, 6))
+    C[:3, :3] = R @ np.diag([8.0, 4.0, 0.08]) @ R.T
+    radii, V, axes = ellipsoid_axes(C, 0.3)
+    np.testing.assert_allclose(radii, [8.0, 4.0, 0.08])
+    np.testing.assert_allclose(C[:3, :3] @ V, V * radii, atol=1e-12)
+    assert np.linalg.det(V) == pytest.approx(1.0)  # a rotation: no mirrored ellipsoid
+    # proportional to the compliances, longest = 0.3 m, the 1 % axis raised to the floor
+    np.testing.assert_allclose(axes, [0.3, 0.15, ELLIPSOID_FLOOR * 0.3])
+    with pytest.raises(ValueError, match="no positive"):
+        ellipsoid_axes(np.zeros((6, 6)), 0.3)
+
+
+def test_ellipsoid_surface_is_a_closed_ellipsoid_at_its_centre():
+    R = np.linalg.qr(np.arange(1.0, 10.0).reshape(3, 3) + np.eye(3))[0]
+    R = R * np.sign(np.linalg.det(R))
+    c, a = np.array([2.0, -0.1, 0.6]), np.array([0.3, 0.12, 0.05])
+    pts, tri = ellipsoid_surface(c, R, a, n=64)
+    # every vertex on the quadric (p - c)^T R diag(a^-2) R^T (p - c) = 1
+    y = (pts - c) @ R / a
+    np.testing.assert_allclose(np.einsum("ij,ij->i", y, y), 1.0, rtol=1e-12)
+    # closed and consistently oriented: each directed edge once, its reverse once
+    e = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+    assert len({tuple(x) for x in e}) == len(e)
+    assert {tuple(x) for x in e} == {tuple(x) for x in e[:, ::-1]}
+    # divergence theorem: outward volume -> 4/3 pi abc (inscribed polyhedron, 1 % low)
+    v = np.einsum("ij,ij->i", pts[tri[:, 0]], np.cross(pts[tri[:, 1]], pts[tri[:, 2]])).sum() / 6
+    assert 0.99 < v / (4 / 3 * np.pi * a.prod()) < 1.0
+    np.testing.assert_allclose(pts.mean(axis=0), c, atol=1e-12)
+
+
+class _Recorder:
+    """Stands in for a PyVista plotter: keeps the meshes and texts added to it."""
+
+    def __init__(self):
+        self.meshes, self.texts = [], []
+
+    def add_mesh(self, mesh, **kwargs):
+        self.meshes.append((mesh, kwargs))
+
+    def add_text(self, text, **kwargs):
+        self.texts.append(text)
+
+
+def test_ellipsoid_is_drawn_at_the_moving_tcp_with_the_tool(box_robot):
+    """The ellipsoid's centre is the TCP of the kinematics (moved with the mode), the tool
+    runs from the flange to it, and the caption states the principal values and scale."""
+    from flexarm.assembly.arm import build_arm
+    from flexarm.robot.kinematics import tcp_frame
+    from flexarm.studies.render_arm import _add_ellipsoid, _tcp_ellipsoid
+
+    arm = build_arm(box_robot)
+    q = box_robot.pose("P1")
+    x = modes(arm.model, q).shapes[:, 0]
+    e = _tcp_ellipsoid(arm, q, x)
+    np.testing.assert_allclose(e.tcp, tcp_frame(arm.model.chain, q)[:3, 3], atol=1e-12)
+    np.testing.assert_allclose(e.u, system_matrices(arm.model, q).G_tcp @ x)
+    scale = 0.01 / np.linalg.norm(e.u[:3])  # 10 mm at the TCP, as the pictures draw it
+    p = _Recorder()
+    moving = _add_ellipsoid(p, e, 0.2, scale)
+    (ell, _), (axes, _), (tool, _) = p.meshes
+    np.testing.assert_allclose(np.asarray(ell.points).mean(axis=0), e.tcp + scale * e.u[:3],
+                               atol=1e-9)
+    ext = np.sort(np.linalg.norm(np.asarray(axes.points)[3:] - np.asarray(axes.points)[:3],
+                                 axis=1))[::-1]
+    radii, _, drawn = ellipsoid_axes(e.C, 0.2)
+    np.testing.assert_allclose(ext, 2 * drawn)
+    assert ext[-1] >= 2 * ELLIPSOID_FLOOR * 0.2 - 1e-12  # a solid, never a flat disc
+    # the tool moves rigidly with the TCP (small rotation), so it keeps its length
+    tp = np.asarray(tool.points)
+    theta = scale * e.u[3:]
+    np.testing.assert_allclose(tp[0], e.flange + scale * e.u[:3]
+                               + np.cross(theta, e.flange - e.tcp), atol=1e-12)
+    np.testing.assert_allclose(tp[1], e.tcp + scale * e.u[:3], atol=1e-12)
+    L0 = np.linalg.norm(e.tcp - e.flange)
+    assert L0 > 0 and np.linalg.norm(tp[1] - tp[0]) == pytest.approx(L0, rel=1e-3)
+    assert f"{1e6 * radii[0]:.3g}" in p.texts[0] and "200 mm" in p.texts[0]
+    # each moving mesh carries one displacement per point
+    assert all(np.shape(u) == np.shape(pts) for _, pts, u in moving)
+
+
+def test_arm_mode_vtu_is_the_recovered_field(box_robot, cached_arm, tmp_path):
+    import meshio
+
+    q = box_robot.pose("P2")
+    path = write_arm_mode(cached_arm, q, 2, tmp_path / "arm.vtu", "P2")
+    m = meshio.read(path)
+    freq, fields = mode_fields(box_robot, cached_arm.model, q, 2, cached_arm.builds)
+    pts = np.vstack([f.points for f in fields])
+    u = np.vstack([f.u for f in fields])
+    u = u / np.linalg.norm(u, axis=1).max()
+    np.testing.assert_allclose(m.points, pts, rtol=1e-12)
+    np.testing.assert_allclose(m.point_data["mode_shape"], u, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(m.cell_data["freq_hz"][0], freq, rtol=1e-12)
+    tri = m.cells_dict["triangle"]
+    assert len(tri) == sum(len(f.faces) for f in fields) and tri.max() == len(pts) - 1
+    link = m.cell_data["link"][0]
+    assert np.bincount(link).tolist() == [len(f.faces) for f in fields]
+    with pytest.raises(ValueError, match="vtu or .vtk"):
+        write_arm_mode(cached_arm, q, 2, tmp_path / "arm.stl")
+
+
+def test_cli_show_arm_vtu(box_robot, cached_arm, tmp_path, monkeypatch):
+    """``show-arm -o x.vtk`` writes the mesh without any renderer; pyvista reads it."""
+    import meshio
+
+    import flexarm.assembly.arm as arm_module
+    from flexarm.cli import main
+
+    monkeypatch.setattr(arm_module, "build_arm", lambda robot, spec, progress=None: cached_arm)
+    out = tmp_path / "arm.vtk"
+    assert main(["show-arm", "--robot", str(box_robot.source), "--pose", "P1", "--mode", "1",
+                 "-o", str(out)]) == 0
+    m = meshio.read(out)
+    assert np.isclose(np.linalg.norm(m.point_data["mode_shape"], axis=1).max(), 1.0)
+    assert main(["show-arm", "--robot", str(box_robot.source), "--ellipsoid",
+                 "-o", str(tmp_path / "e.vtu")]) == 2
+    assert not (tmp_path / "e.vtu").exists()
+    pv = pytest.importorskip("pyvista")
+    assert pv.read(out).n_points == len(m.points)

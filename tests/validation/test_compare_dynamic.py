@@ -67,3 +67,38 @@ def test_compare_frf_exact_and_shifted(tmp_path, demo):
     assert max(r.rms_log10_mag for r in cmp.table) > 0.05
     paths = write_frf_report(tmp_path, cmp)
     assert all(p.stat().st_size > 0 for p in paths)
+
+
+def test_frf_overlay_csv_is_the_plotted_lines(tmp_path, demo, monkeypatch):
+    import matplotlib.figure
+
+    saved = {}
+    real = matplotlib.figure.Figure.savefig
+
+    def savefig(self, fname, *args, **kwargs):
+        saved[str(fname)] = self
+        return real(self, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
+    robot, arm = demo
+    data = frf_data(arm, robot, [parse_effect("stiffness:j2=0.5")])
+    cmp = compare_frf(arm, data)
+    _, png, csv_path = write_frf_report(tmp_path, cmp)
+    table = np.genfromtxt(csv_path, delimiter=",", names=True, dtype=None, encoding=None)
+    axes = saved[str(png)].axes
+    n = len(cmp.table)
+    assert len(axes) == 2 * n and axes[0].get_ylabel() == "|H| [mm/kN]"
+    for c, r in enumerate(cmp.table):
+        rows = table[(table["pose"] == r.pose) & (table["input"] == r.input)
+                     & (table["output"] == r.output)]
+        meas, model = axes[c].get_lines()  # the top row: magnitudes
+        np.testing.assert_allclose(meas.get_xdata(), rows["freq_Hz"], rtol=1e-9)
+        np.testing.assert_allclose(
+            meas.get_ydata(), np.hypot(rows["re_H_meas_m_per_N"], rows["im_H_meas_m_per_N"]) * 1e6,
+            rtol=1e-8)
+        np.testing.assert_allclose(
+            model.get_ydata(),
+            np.hypot(rows["re_H_model_m_per_N"], rows["im_H_model_m_per_N"]) * 1e6, rtol=1e-8)
+    # SI in the file: the measured column is the data's own receptance
+    np.testing.assert_allclose(np.sort(table["re_H_meas_m_per_N"]),
+                               np.sort(np.real(data.receptance)), rtol=1e-9)

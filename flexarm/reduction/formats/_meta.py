@@ -7,6 +7,7 @@ import json
 import numpy as np
 
 from ..superelement import Superelement, to_arrays
+from ._checksum import CHECKSUM_KEY
 
 __all__ = ["META_FIELDS", "meta_json", "meta_from_json"]
 
@@ -16,13 +17,16 @@ META_FIELDS = ("interface_names", "interface_positions", "interface_frames", "co
                "mass", "center_of_mass", "inertia", "input_hash", "units", "version")
 
 
-def meta_json(se: Superelement) -> str:
-    """One-line JSON of :data:`META_FIELDS` (floats written with full precision)."""
+def meta_json(se: Superelement, checksum: str | None = None) -> str:
+    """One-line JSON of :data:`META_FIELDS` (floats written with full precision), and
+    the content ``checksum`` last when given."""
     d = to_arrays(se)
     out = {}
     for k in META_FIELDS:
         v = d[k]
         out[k] = v.tolist() if isinstance(v, np.ndarray) else v
+    if checksum is not None:
+        out[CHECKSUM_KEY] = checksum
     return json.dumps(out, separators=(",", ":"))
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from ...fe.errors import ReadError
 from ...fe.files import atomic_path
 from ..superelement import Superelement, from_arrays
+from ._checksum import CHECKSUM_KEY, content_checksum, verify_checksum
 from ._meta import meta_from_json, meta_json
 
 __all__ = ["read", "write", "dof_labels"]
@@ -71,6 +72,9 @@ def write(path, se: Superelement) -> None:
         lines.append("SPOINT," + ",".join(str(s) for s in spoints[k : k + 6]))
     lines += _matrix_cards("KAAX", K, ids, comps)
     lines += _matrix_cards("MAAX", M, ids, comps)
+    # the checksum is of what a reader gets back from these cards (the upper triangle)
+    d = _parse(lines, path)
+    lines[3] = _TAG + meta_json(se, content_checksum(d))
     with atomic_path(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n")
 
@@ -78,7 +82,13 @@ def write(path, se: Superelement) -> None:
 def read(path) -> Superelement:
     """Read a file written by :func:`write` (free-field DMIG plus the metadata line)."""
     path = Path(path)
-    text = path.read_text().splitlines()
+    d = _parse(path.read_text().splitlines(), path)
+    verify_checksum(d, d.pop(CHECKSUM_KEY, None), path)
+    return from_arrays(d, str(path))
+
+
+def _parse(text: list[str], path) -> dict:
+    """The fields of a DMIG file's lines (the checksum, if any, under its key)."""
     meta = [ln[len(_TAG):] for ln in text if ln.startswith(_TAG)]
     if not meta:
         raise ReadError(f"{path}: no '{_TAG.strip()}' line: not written by flexarm")
@@ -110,4 +120,4 @@ def read(path) -> Superelement:
     if mats["KAAX"] is None or mats["MAAX"] is None:
         raise ReadError(f"{path}: needs both DMIG matrices KAAX and MAAX")
     d["K"], d["M"] = mats["KAAX"], mats["MAAX"]
-    return from_arrays(d, str(path))
+    return d

@@ -3,7 +3,9 @@
 Layout: root attributes ``format = "flexarm-superelement"``, ``version``, ``units``,
 ``coupling``, ``method``, ``input_hash``, ``dofs_per_node``, ``mass``; one root dataset
 per array field (``K``, ``M``, ``T``, ``interface_names`` as fixed-length UTF-8 bytes,
-...).  No timestamps: datasets are created with ``track_times=False``, the file has a
+...), and the root attribute ``checksum``, the SHA-256 of the content
+(:mod:`~flexarm.reduction.formats._checksum`), verified on reading.  No timestamps:
+datasets are created with ``track_times=False``, the file has a
 fixed ``libver`` and attributes are written in a fixed order, so identical inputs give
 identical bytes.  MATLAB (``h5read``), Julia (HDF5.jl) and any HDF5 tool read it.
 """
@@ -17,6 +19,7 @@ import numpy as np
 from ...fe.errors import ReadError
 from ...fe.files import atomic_path
 from ..superelement import SCALAR_FIELDS, Superelement, from_arrays, to_arrays
+from ._checksum import CHECKSUM_KEY, content_checksum, verify_checksum
 
 __all__ = ["read", "write", "MAGIC"]
 
@@ -28,9 +31,11 @@ def write(path, se: Superelement) -> None:
     import h5py
 
     data = to_arrays(se)
+    checksum = content_checksum(data)
     with atomic_path(path) as tmp:
         with h5py.File(tmp, "w", libver=("v110", "v110"), track_order=True) as f:
             f.attrs["format"] = MAGIC
+            f.attrs[CHECKSUM_KEY] = checksum
             for key in sorted(SCALAR_FIELDS):
                 f.attrs[key] = data.pop(key)
             names = data.pop("interface_names")
@@ -52,9 +57,14 @@ def read(path) -> Superelement:
     with f:
         if f.attrs.get("format") != MAGIC:
             raise ReadError(f"{path}: not a flexarm superelement (format attribute missing)")
-        d = {k: f.attrs[k] for k in f.attrs if k != "format"}
-        for key in f:
-            d[key] = f[key][()]
+        stored = f.attrs.get(CHECKSUM_KEY)
+        d = {k: f.attrs[k] for k in f.attrs if k not in ("format", CHECKSUM_KEY)}
+        try:
+            for key in f:
+                d[key] = f[key][()]
+        except OSError as exc:  # a truncated file opens but its data cannot be read
+            raise ReadError(f"{path}: damaged HDF5 data ({exc})") from None
     if "interface_names" in d:
         d["interface_names"] = [s.decode() for s in d["interface_names"]]
+    verify_checksum(d, stored, path)
     return from_arrays(d, str(path))

@@ -3,6 +3,9 @@
 
 Matrix Market is read by MATLAB (``mmread``), Julia (MatrixMarket.jl), SciPy and most
 sparse libraries.  The recovery matrix and surface mesh are not part of this export.
+``superelement.json`` also holds the ``checksum`` of the content as read back (the two
+matrices and the metadata, :mod:`~flexarm.reduction.formats._checksum`), verified on
+reading.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import scipy.io
 
 from ...fe.errors import ReadError
 from ..superelement import Superelement, from_arrays
+from ._checksum import CHECKSUM_KEY, content_checksum, verify_checksum
 from ._meta import meta_from_json, meta_json
 
 __all__ = ["read", "write"]
@@ -32,7 +36,10 @@ def write(path, se: Superelement) -> None:
             scipy.io.mmwrite(tmp / f"{name}.mtx", np.asarray(getattr(se, name)),
                              comment=f"flexarm superelement {name} (SI units)",
                              symmetry="symmetric")
-        (tmp / "superelement.json").write_text(meta_json(se) + "\n")
+        # the checksum is of what a reader gets back from the text just written
+        d = meta_from_json(meta_json(se))
+        d.update(_matrices(tmp, tmp))
+        (tmp / "superelement.json").write_text(meta_json(se, content_checksum(d)) + "\n")
         if path.is_dir() and (path / "superelement.json").exists():
             shutil.rmtree(path)
         os.replace(tmp, path)
@@ -49,10 +56,22 @@ def read(path) -> Superelement:
         raise ReadError(f"{path}: not a Matrix Market superelement folder "
                         "(needs K.mtx, M.mtx, superelement.json)")
     d = meta_from_json(meta.read_text())
-    for name in ("K", "M"):
-        f = path / f"{name}.mtx"
-        if not f.exists():
-            raise ReadError(f"{path}: missing {name}.mtx")
-        A = scipy.io.mmread(f)
-        d[name] = np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=np.float64)
+    stored = d.pop(CHECKSUM_KEY, None)
+    d.update(_matrices(path, path))
+    verify_checksum(d, stored, path)
     return from_arrays(d, str(path))
+
+
+def _matrices(folder: Path, name_for_errors: Path) -> dict:
+    """``K`` and ``M`` (dense float64) from ``folder``'s ``K.mtx`` and ``M.mtx``."""
+    out = {}
+    for name in ("K", "M"):
+        f = folder / f"{name}.mtx"
+        if not f.exists():
+            raise ReadError(f"{name_for_errors}: missing {name}.mtx")
+        try:
+            A = scipy.io.mmread(f)
+        except (ValueError, OSError) as exc:
+            raise ReadError(f"{f}: not a Matrix Market file ({exc})") from None
+        out[name] = np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=np.float64)
+    return out

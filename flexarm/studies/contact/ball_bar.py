@@ -30,9 +30,10 @@ import numpy as np
 
 from ...assembly.analyses import tcp_compliance
 from ...assembly.system import ArmModel
+from ...fe.errors import ReadError
 from ...fe.geometry import rigid_transport
 from ...fe.typing import ArrayLike, FloatArray
-from ...robot.ik_path import PathIK, ik_path
+from ...robot.ik_path import PathIK, UnreachableTargetError, ik_path
 from ...robot.kinematics import tcp_frame
 from ...robot.paths import fit_circle, fit_sphere, sample_procedure
 
@@ -207,7 +208,12 @@ def rapid_circle(robot, module, name: str, pivot: ArrayLike | None = None, tool=
     proc = module.procedures[name]
     path = sample_procedure(proc, step_mm=step_mm)
     piv = default_pivot(module, name) if pivot is None else pivot
-    return circle_setup(robot, path, [m.to_point.conf for m in proc.motions], piv, tool)
+    try:
+        return circle_setup(robot, path, [m.to_point.conf for m in proc.motions], piv, tool)
+    except UnreachableTargetError as exc:
+        if not module.path:
+            raise
+        raise ReadError(f"{module.path}: {name}: {exc}") from None
 
 
 def load_point_compliance(arm: ArmModel, setup: CircleSetup) -> FloatArray:
