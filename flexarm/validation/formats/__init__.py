@@ -11,9 +11,10 @@ from __future__ import annotations
 import logging
 from pathlib import Path
 
+from ...fe.formats import FormatRegistry
 from ...fe.typing import ArrayLike, PathType
 from ..measurements import FrfData, ModalData, PathData, StaticData
-from . import csv_frf, csv_modal, csv_path, csv_static
+from . import csv_frf, csv_modal, csv_path, csv_static, uff, uff_write
 from ._registry import KINDS, detect_kind, register_kind, vocabulary
 from ._table import MeasurementFileError, read_table
 
@@ -21,7 +22,7 @@ __all__ = [
     "KINDS", "MeasurementFileError", "detect_kind", "register_kind",
     "read_measurements", "read_static", "read_modal", "read_frf", "read_path",
     "write_measurements", "write_static", "write_modal", "write_frf", "write_path",
-    "example_path",
+    "example_path", "registry",
 ]
 
 log = logging.getLogger(__name__)
@@ -60,6 +61,9 @@ def read_measurements(path: PathType, limits: ArrayLike | None = None) -> Measur
     >>> type(data).__name__, data.n_series
     ('StaticData', 2)
     """
+    fmt = registry.find(path)
+    if fmt is not None and fmt.name != "csv":  # other extensions are read as CSV
+        return registry.read(path)
     table = read_table(path, vocabulary())
     kind, guessed = detect_kind(table)
     data = KINDS[kind].from_table(table, limits, guessed)
@@ -166,6 +170,13 @@ def write_path(path: PathType, data: PathData, comments=()) -> Path:
     """Write a path test in mm, N, atomically; returns the path."""
     _check_type(data, PathData, "write_path")
     return csv_path.write(path, data, comments)
+
+
+#: Measurement files by extension: CSV (every kind, recognised by its columns) and
+#: universal files (mode shapes and FRFs, :mod:`.uff`).
+registry = FormatRegistry("measurement")
+registry.register("csv", (".csv", ".txt"), read=read_measurements, write=write_measurements)
+registry.register("uff", uff.EXTENSIONS, read=uff.read, write=uff_write.write)
 
 
 def example_path(kind: str) -> Path:

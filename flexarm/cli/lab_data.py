@@ -1,0 +1,44 @@
+"""Lab data as test rigs write it: ``ema`` (modal parameters from measured FRFs)."""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+from pathlib import Path
+
+from ._common import command, out, wrote
+
+
+def _add_ema(p: argparse.ArgumentParser) -> None:
+    p.add_argument("frf", help="universal file with FRFs (58 datasets; .uff or .unv)")
+    p.add_argument("-o", "--output", required=True,
+                   help="modal data with shapes to write: CSV (.csv) or universal file (.uff)")
+    p.add_argument("--band", default=None,
+                   help="frequency band of the fit [Hz], LO:HI (default: every measured line)")
+    p.add_argument("--max-order", type=int, default=40,
+                   help="highest LSCF order (model orders 2 ... 2x this)")
+    p.add_argument("--min-stable", type=float, default=0.25,
+                   help="share of the orders at which a pole column must be stable [-]")
+
+
+@command("ema", "modal parameters (frequency, damping, shapes) from measured FRFs: LSCF + "
+         "LSFD, stabilisation diagram, synthesised vs measured FRF", _add_ema)
+def _run_ema(args) -> int:
+    from ..validation.ema import run_ema
+    from ..validation.formats import registry
+
+    lo = hi = None
+    if args.band:
+        try:
+            lo, hi = (float(v) for v in args.band.split(":"))
+        except ValueError:
+            raise ValueError(f"--band '{args.band}': expected LO:HI in Hz, e.g. 2:160") from None
+    res = run_ema(args.frf, lo, hi, args.max_order, args.min_stable)
+    out(res.text())
+    output = Path(args.output)
+    wrote([registry.write(output, res.modal(), comments=(f"flexarm ema {args.frf}",))])
+    wrote(res.write_plots(output.parent / output.stem))
+    points = Path(args.frf).with_suffix(".points.csv")  # the lab's points table goes along
+    if points.exists() and output.suffix.lower() != ".uff":
+        wrote([shutil.copyfile(points, output.with_suffix(".points.csv"))])
+    return 0
