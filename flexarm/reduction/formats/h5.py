@@ -58,7 +58,9 @@ def read(path) -> Superelement:
         if f.attrs.get("format") != MAGIC:
             raise ReadError(f"{path}: not a flexarm superelement (format attribute missing)")
         stored = f.attrs.get(CHECKSUM_KEY)
-        d = {k: f.attrs[k] for k in f.attrs if k not in ("format", CHECKSUM_KEY)}
+        # the superelement's own attributes: others (a build's statistics added by the
+        # cache) are not part of its content
+        d = {k: f.attrs[k] for k in f.attrs if k in SCALAR_FIELDS}
         try:
             for key in f:
                 d[key] = f[key][()]
