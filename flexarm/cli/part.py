@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from ._common import Progress, command, ints, names, out, say, wrote
+from ._common import Progress, command, ints, names, out, say, set_quiet, wrote
 
 _MATERIAL_HELP = "steel | cast_iron | aluminium | nafems | 'E,nu,rho' in SI units"
 
@@ -116,7 +116,9 @@ def _add_reduce(p: argparse.ArgumentParser) -> None:
     p.add_argument("--material", default="steel", help=_MATERIAL_HELP)
     p.add_argument("--volume-nodes", action="store_true",
                    help="regions may hold interior nodes (default: surface nodes only)")
-    p.add_argument("--backend", default=None, help="sparse solver: pardiso | cholmod | splu")
+    p.add_argument("--backend", default=None,
+                   help="sparse solver: pardiso | cholmod | splu, or petsc to reduce across "
+                        "the ranks of mpiexec -n N (PETSc/MUMPS + SLEPc)")
     p.add_argument("-o", "--output", required=True, help="superelement file (.h5 default)")
     p.add_argument("--format", default=None, choices=["h5", "npz", "mtx", "dmig"],
                    help="file format (default: from the extension)")
@@ -136,12 +138,18 @@ def _run_reduce(args) -> int:
         raise ValueError("give at least one --interface NAME:cx,cy,cz,ax,ay,az,r,w or --node-set")
     material = material_from_string(args.material)
     formats.format_of(args.output, args.format)  # a bad extension fails before the work
+    if args.backend == "petsc":  # one report, from MPI rank 0
+        from ..fe.petsc_assembly import world
+
+        set_quiet(world().Get_rank() != 0)
     mesh = read_volume_mesh(args.mesh).check(args.mesh)
     with Progress(f"reducing {mesh.n_dofs} DOF ({args.coupling}, {args.method})"):
         se, st = reduce_with_stats(
             mesh, material, regions, args.coupling, args.method, args.modes,
             n_masters=args.masters, diagonal=args.diagonal,
             surface_only=not args.volume_nodes, backend=args.backend)
+    if se is None:  # another MPI rank: rank 0 writes the superelement
+        return 0
     formats.write(args.output, se, args.format)
     out(f"{args.mesh}: {mesh.n_tets} Tet{4 if mesh.order == 1 else 10}, material "
         f"{material.name}, mass {se.mass:.6g} kg, COM {se.center_of_mass.round(6)} m")

@@ -16,6 +16,7 @@ import scipy.sparse as sp
 from ..fe.assembly import assemble
 from ..fe.files import digest
 from ..fe.material import Material
+from ..fe.memory_estimate import plan_memory
 from ..fe.mesh import TetMesh
 from .couplings import Coupling, couple
 from .craig_bampton import craig_bampton
@@ -112,16 +113,33 @@ def reduce_with_stats(mesh: TetMesh, material: Material, regions, coupling: str 
                       diagonal: bool = False, surface_only: bool = True,
                       recovery_dtype=np.float32, backend: str | None = None,
                       matrices=None) -> tuple[Superelement, ReductionStats]:
-    """:func:`reduce_part` that also returns the sizes and wall times of each step."""
+    """:func:`reduce_part` that also returns the sizes and wall times of each step.
+
+    ``backend="petsc"`` reduces across the MPI ranks of ``mpiexec -n N`` (every rank calls
+    this; ranks other than 0 get ``(None, None)``).  A memory estimate runs first and
+    raises :class:`~flexarm.fe.memory_estimate.InsufficientMemoryError` when the link does
+    not fit (see :func:`~flexarm.fe.memory_estimate.plan_memory`).
+    """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got '{method}'")
     n = 0 if method == "guyan" else int(n_modes)
+    backend = plan_memory(mesh, n, backend).backend  # refuses before any heavy work
     t0 = time.perf_counter()
-    model = coupled_model(mesh, material, regions, coupling, n_masters, surface_only, matrices)
-    t1 = time.perf_counter()
-    red: Reduction = craig_bampton(model.K, model.M, model.coupling.n_boundary, n,
-                                   diagonal=diagonal, backend=backend)
-    c = model.coupling
+    if backend == "petsc":  # every MPI rank runs this; rank 0 gets the reduction
+        from .petsc_backend import reduce_coupled_petsc
+
+        ifaces, c, red, t_asm = reduce_coupled_petsc(mesh, material, regions, coupling, n,
+                                                     n_masters, diagonal, surface_only)
+        if red is None:
+            return None, None
+        t1 = t0 + t_asm
+    else:
+        model = coupled_model(mesh, material, regions, coupling, n_masters, surface_only,
+                              matrices)
+        t1 = time.perf_counter()
+        red: Reduction = craig_bampton(model.K, model.M, model.coupling.n_boundary, n,
+                                       diagonal=diagonal, backend=backend)
+        ifaces, c = model.interfaces, model.coupling
     T_full = np.asarray(c.T @ red.T, dtype=recovery_dtype)
     rigid = reduced_rigid_modes(c.node_positions, c.dofs_per_node, red.K.shape[0])
     mp = matrix_mass_properties(red.M, rigid)
@@ -131,9 +149,9 @@ def reduce_with_stats(mesh: TetMesh, material: Material, regions, coupling: str 
                  np.dtype(recovery_dtype).str, FORMAT_VERSION)
     se = Superelement(
         K=red.K, M=red.M,
-        interface_names=tuple(i.name for i in model.interfaces),
-        interface_positions=np.array([i.position for i in model.interfaces]),
-        interface_frames=np.array([i.frame for i in model.interfaces]),
+        interface_names=tuple(i.name for i in ifaces),
+        interface_positions=np.array([i.position for i in ifaces]),
+        interface_frames=np.array([i.frame for i in ifaces]),
         coupling=coupling, method=method,
         node_positions=c.node_positions, node_interface=c.node_interface,
         dofs_per_node=c.dofs_per_node, freq_hz=red.freq_hz,
@@ -143,7 +161,7 @@ def reduce_with_stats(mesh: TetMesh, material: Material, regions, coupling: str 
     )
     stats = ReductionStats(
         mesh.n_dofs, c.n_coupled, red.K.shape[0],
-        {i.name: int(i.nodes.size) for i in model.interfaces},
+        {i.name: int(i.nodes.size) for i in ifaces},
         {"assemble_couple": t1 - t0, **red.seconds, "total": time.perf_counter() - t0})
     log.info("reduced %d -> %d DOF in %.2f s", mesh.n_dofs, red.K.shape[0],
              stats.total_seconds)

@@ -1,0 +1,291 @@
+"""How much memory a reduction will take, known before any matrix is assembled.
+
+The dominant term is the sparse factor of the interior stiffness.  Its fill is read from
+the analysis phase of the ordering that the factorisation itself uses (PARDISO's METIS
+nested dissection and symbolic factorisation, :func:`flexarm.fe.solvers.factor_size`),
+run on the *node* graph of the mesh: a third of the size and a ninth of the entries of
+the DOF matrix, so it takes a fraction of a second to a few seconds, and the DOF-level
+factor has ``9 L_nodes - 3 n_nodes`` entries (measured: 0.97-0.99 of the DOF-level
+analysis on Tet10 links of 29k and 140k DOF).  The rest (matrices and their coupled
+copies, the dense basis, the recovery matrix, the Krylov basis) follows from counts.
+
+:func:`plan_memory` turns the estimate into a path: the in-core default when it fits in
+the memory available, PETSc across MPI ranks when the process runs under ``mpiexec``
+and each host's share fits, else :class:`InsufficientMemoryError` with the figures and
+the cluster command.  Small links skip the analysis: a generous closed-form bound
+already fits.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .errors import FlexarmError
+from .mesh import TetMesh
+
+__all__ = [
+    "InsufficientMemoryError",
+    "MemoryEstimate",
+    "MemoryPlan",
+    "available_memory",
+    "estimate_memory",
+    "plan_memory",
+]
+
+log = logging.getLogger(__name__)
+
+GB = 1024.0**3
+#: Bytes per factor entry: the float64 value plus PARDISO's supernodal indices and
+#: work arrays (its own peak over 8 x entries: 1.36 at 140k DOF, 1.77 at 29k DOF).
+FACTOR_BYTES_PER_ENTRY = 12.0
+#: MUMPS needs more than PARDISO for the same fill (its default ICNTL(14) = 20-35 %
+#: workspace, plus the distributed copies of the matrix it receives).
+MUMPS_OVERHEAD = 1.4
+#: Sparse matrices alive at once during a reduction, in units of one K (CSR, 12 bytes an
+#: entry): K, M (a third of K's entries), the coupled copies, the interior blocks and
+#: PARDISO's upper triangle.
+SPARSE_COPIES = 4.0
+#: Dense float64 columns of length n alive at once beyond the basis: Krylov basis and
+#: block vectors of the eigen-solve.
+KRYLOV_COLUMNS = 80
+#: Fixed workspace of the libraries [bytes]: PARDISO alone reports 16 MB for a 3 x 3
+#: matrix; thread pools and allocator slack add to it.
+FIXED_BYTES = 100e6
+#: Closed-form bound on the factor's entries, ``c n_dofs^(4/3)`` (3-D nested dissection):
+#: c = 12-13 was measured on Tet10 bars; 60 leaves room for compact parts.
+FILL_BOUND = 60.0
+#: Below this share of the available memory the closed-form bound is trusted and the
+#: analysis is skipped.
+BOUND_SHARE = 0.25
+
+
+def _gb(x: float) -> str:
+    return f"{x / GB:.3g} GB"
+
+
+class InsufficientMemoryError(FlexarmError):
+    """The reduction would not fit in the memory of this machine (or of each host)."""
+
+
+@dataclass(frozen=True)
+class MemoryEstimate:
+    """Memory a reduction needs [bytes], by part.
+
+    Attributes
+    ----------
+    n_dofs : int
+        FE DOFs (3 per node).
+    factor_entries : int
+        Entries of the factor of the stiffness (METIS fill).
+    factor_bytes, sparse_bytes, dense_bytes : float
+        The factor, the sparse matrices, the dense basis and vectors (with the
+        libraries' fixed workspace) [bytes].
+    method : str
+        ``"analysis"`` (PARDISO's symbolic phase on the node graph) or ``"bound"``
+        (closed-form upper bound, for small links or without PARDISO).
+    """
+
+    n_dofs: int
+    factor_entries: int
+    factor_bytes: float
+    sparse_bytes: float
+    dense_bytes: float
+    method: str
+
+    @property
+    def total_bytes(self) -> float:
+        """In-core peak of the default path [bytes]."""
+        return self.factor_bytes + self.sparse_bytes + self.dense_bytes
+
+    def per_rank_bytes(self, ranks: int) -> float:
+        """Peak of one of ``ranks`` PETSc ranks [bytes] (rank 0 also gathers the basis)."""
+        shared = (MUMPS_OVERHEAD * self.factor_bytes + self.sparse_bytes
+                  + self.dense_bytes / 2) / ranks
+        return shared + self.dense_bytes / 2
+
+    def text(self) -> str:
+        """One line: total and factor [GB], how the fill was found."""
+        how = "METIS analysis" if self.method == "analysis" else "closed-form bound"
+        return (f"{self.n_dofs} DOF: about {_gb(self.total_bytes)} in core (factor "
+                f"{_gb(self.factor_bytes)}, {self.factor_entries:.3g} entries by {how})")
+
+
+@dataclass(frozen=True)
+class MemoryPlan:
+    """The path a reduction takes, and why.
+
+    Attributes
+    ----------
+    backend : str or None
+        Solver backend to use (``None``: the in-core default; ``"petsc"``).
+    path : {"in-core", "petsc"}
+    estimate : MemoryEstimate
+    available_bytes : float
+        Memory available on this host [bytes].
+    ranks : int
+        MPI ranks sharing the work (1 in core).
+    """
+
+    backend: str | None
+    path: str
+    estimate: MemoryEstimate
+    available_bytes: float
+    ranks: int = 1
+
+
+def available_memory() -> float:
+    """Memory this process may still use [bytes].
+
+    The smaller of the kernel's ``MemAvailable`` and the cgroup limit less its usage;
+    ``FLEXARM_MEMORY_GB`` overrides both (a cap for shared machines, or for tests).
+
+    >>> available_memory() > 0
+    True
+    """
+    cap = os.environ.get("FLEXARM_MEMORY_GB")
+    if cap:
+        return float(cap) * GB
+    found = []
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    found.append(float(line.split()[1]) * 1024)
+    except OSError:
+        pass
+    try:
+        with open("/sys/fs/cgroup/memory.max") as f:
+            limit = f.read().strip()
+        if limit != "max":
+            with open("/sys/fs/cgroup/memory.current") as f:
+                found.append(float(limit) - float(f.read()))
+    except (OSError, ValueError):
+        pass
+    if not found:  # pragma: no cover - not Linux
+        found.append(float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")))
+    return max(min(found), 0.0)
+
+
+def _node_graph(mesh: TetMesh) -> sp.csr_matrix:
+    from .sparsity import NodePattern
+
+    p = NodePattern.of(mesh)
+    return sp.csr_matrix((np.ones(p.indices.size), p.indices, p.indptr),
+                         shape=(mesh.n_nodes, mesh.n_nodes))
+
+
+def _estimate(mesh: TetMesh, n_basis: int, factor_entries: int, node_pairs: int,
+              method: str) -> MemoryEstimate:
+    n = mesh.n_dofs
+    k_entries = 9 * node_pairs
+    sparse = SPARSE_COPIES * 12.0 * (k_entries + k_entries / 3)
+    # basis (n x r) twice (coupled and recovery, float64 before the float32 cast),
+    # constraint-mode right-hand sides, the Krylov vectors
+    dense = 8.0 * n * (3 * n_basis + KRYLOV_COLUMNS) + FIXED_BYTES
+    return MemoryEstimate(n, int(factor_entries), FACTOR_BYTES_PER_ENTRY * factor_entries,
+                          sparse, dense, method)
+
+
+def estimate_memory(mesh: TetMesh, n_basis: int = 40, analyse: bool = True) -> MemoryEstimate:
+    """Memory of reducing ``mesh`` onto ``n_basis`` reduced DOFs (boundary + modes).
+
+    ``analyse=False`` (or no PARDISO) gives the closed-form upper bound instead of the
+    METIS analysis.
+
+    Examples
+    --------
+    >>> est = estimate_memory(TetMesh.box((1, .1, .1), (20, 2, 2), order=2), analyse=False)
+    >>> est.method, est.total_bytes < 1e9
+    ('bound', True)
+    """
+    n = mesh.n_dofs
+    nn = mesh.tets.shape[1]
+    pairs_bound = min(mesh.n_nodes**2, mesh.n_tets * nn * nn)
+    if analyse:
+        from .solvers import available_backends, factor_size
+
+        if "pardiso" in available_backends():
+            G = _node_graph(mesh)
+            fs = factor_size(G)
+            entries = 9 * fs.factor_entries - 3 * mesh.n_nodes
+            log.info("factor fill from METIS analysis of %d nodes in %.2f s: %d entries",
+                     mesh.n_nodes, fs.seconds, entries)
+            return _estimate(mesh, n_basis, entries, G.nnz, "analysis")
+    bound = min(FILL_BOUND * n ** (4.0 / 3.0), n * (n + 1) / 2)
+    return _estimate(mesh, n_basis, int(bound), pairs_bound, "bound")
+
+
+def _ranks() -> tuple[int, int]:
+    """(MPI ranks, ranks on this host); (1, 1) outside ``mpiexec``."""
+    from .petsc_assembly import is_distributed, world
+
+    if not is_distributed():
+        return 1, 1
+    from mpi4py import MPI
+
+    comm = world()
+    host = comm.Split_type(MPI.COMM_TYPE_SHARED)
+    return comm.Get_size(), host.Get_size()
+
+
+def _cluster_hint(est: MemoryEstimate, available: float) -> str:
+    hosts = max(2, math.ceil(MUMPS_OVERHEAD * est.total_bytes / max(available, 1.0)))
+    return (f"reduce it across machines: mpiexec --hostfile hosts -n {hosts} --map-by node "
+            f"flexarm reduce ... --backend petsc (at least {hosts} machines like this one, "
+            "one rank each)")
+
+
+def plan_memory(mesh: TetMesh, n_modes: int = 20, backend: str | None = None,
+                available: float | None = None, n_boundary: int = 12) -> MemoryPlan:
+    """The path that fits, or :class:`InsufficientMemoryError` with the figures.
+
+    Parameters
+    ----------
+    mesh : TetMesh
+    n_modes, n_boundary : int
+        Reduced DOFs the basis will have (modes, interface DOFs).
+    backend : str, optional
+        The requested solver backend; ``"petsc"`` checks each host's share.
+    available : float, optional
+        Memory available on this host [bytes] (default :func:`available_memory`).
+
+    Examples
+    --------
+    >>> mesh = TetMesh.box((1, .1, .1), (20, 2, 2), order=2)
+    >>> plan_memory(mesh, 10, available=8 * GB).path
+    'in-core'
+    >>> plan_memory(mesh, 10, available=1e6)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    flexarm.fe.memory_estimate.InsufficientMemoryError: 3075 DOF: about ...
+    """
+    avail = available_memory() if available is None else float(available)
+    n_basis = n_modes + n_boundary
+    est = estimate_memory(mesh, n_basis, analyse=False)
+    if est.total_bytes > BOUND_SHARE * avail:  # the bound is not enough: ask METIS
+        est = estimate_memory(mesh, n_basis, analyse=True)
+    if backend == "petsc":
+        ranks, local = _ranks()
+        need = local * est.per_rank_bytes(ranks)
+        if need > avail:
+            raise InsufficientMemoryError(
+                f"{est.text()}; on PETSc with {ranks} rank(s), {local} on this host: "
+                f"{_gb(need)} here, {_gb(avail)} available; "
+                + _cluster_hint(est, avail))
+        return MemoryPlan("petsc", "petsc", est, avail, ranks)
+    if est.total_bytes <= avail:
+        log.info("memory plan: in core, %s, %s available", est.text(), _gb(avail))
+        return MemoryPlan(backend, "in-core", est, avail)
+    ranks, local = _ranks() if backend is None else (1, 1)
+    if ranks > 1 and local * est.per_rank_bytes(ranks) <= avail:
+        log.info("memory plan: PETSc on %d ranks, %s", ranks, est.text())
+        return MemoryPlan("petsc", "petsc", est, avail, ranks)
+    raise InsufficientMemoryError(
+        f"{est.text()}, {_gb(avail)} available on this machine; "
+        + _cluster_hint(est, avail))
