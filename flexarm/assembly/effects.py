@@ -119,3 +119,75 @@ def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
     new = replace(arm, joints=tuple(joints), foundation=foundation, wrist_stiffness=wrist)
     new.__dict__.pop("_layout", None)
     return new, laws
+
+
+#: Effects that add a TCP motion on top of the arm's compliance (not a change of the arm).
+ADDED = ("tool", "balancer")
+
+
+def added_deflection(arm: ArmModel, effects, q, dforce, dtau) -> np.ndarray:
+    """(n, 3) TCP translation [m] the ``tool`` and ``balancer`` effects add, base frame.
+
+    ``q`` (n, n_joints) joint angles [rad], ``dforce`` (n, 3) TCP force change [N] (base
+    frame) and ``dtau`` (n, n_joints) joint torque change [N m] since each series'
+    reference reading; ``arm`` carries the gear stiffnesses the balancer works against.
+    A tool compliance ``C`` (3, 3) [m/N] in the tool frame moves the TCP by
+    ``R C R^T dF`` (``R`` the tool frame's orientation); a balancer of stiffness
+    ``kb(q_j) = kc cos q_j + ks sin q_j`` in parallel with the gear ``k`` turns joint
+    ``j`` by ``dtau (1 / (k + kb) - 1 / k)`` more, seen at the TCP through the Jacobian.
+
+    Examples
+    --------
+    >>> from flexarm.assembly.examples import two_link_arm
+    >>> arm = two_link_arm()
+    >>> e = [Effect("tool", None, (("cxx", 1e-7), ("cyy", 1e-7), ("czz", 1e-7)))]
+    >>> added_deflection(arm, e, [[0.0, 0.3]], [[0, 0, -100.0]], [[0.0, 0.0]]).round(9)
+    array([[ 0.e+00,  0.e+00, -1.e-05]])
+    """
+    from ..robot.effects import TOOL_INDEX, TOOL_PARAMS
+    from ..robot.kinematics import jacobian, tcp_frame
+
+    q = np.atleast_2d(np.asarray(q, dtype=float))
+    dforce = np.atleast_2d(np.asarray(dforce, dtype=float))
+    dtau = np.atleast_2d(np.asarray(dtau, dtype=float))
+    u = np.zeros((len(q), 3))
+    tools = [e for e in effects if e.kind == "tool"]
+    if tools:
+        C = np.zeros((3, 3))
+        for e in tools:
+            for name, (a, b) in zip(TOOL_PARAMS, TOOL_INDEX, strict=True):
+                C[a, b] += e.get(name, 0.0)
+                C[b, a] = C[a, b]
+        R = tcp_frame(arm.chain, q)[:, :3, :3]
+        u += np.einsum("nij,jk,nlk,nl->ni", R, C, R, dforce)
+    bal = [e for e in effects if e.kind == "balancer"]
+    if bal:
+        J = jacobian(arm.chain, q)[:, :3, :]
+        for e in bal:
+            j = e.joint
+            k = arm.joints[j].torsion
+            kb = e.get("kc") * np.cos(q[:, j]) + e.get("ks") * np.sin(q[:, j])
+            dc = 1.0 / np.maximum(k + kb, tol.min_compliance_scale * k) - 1.0 / k
+            u += J[:, :, j] * (dtau[:, j] * dc)[:, None]
+    return u
+
+
+def measured(effects, u) -> np.ndarray:
+    """(n, 3) TCP motions ``u`` [m] as a tracker whose frame is off by the ``frame``
+    effects sees them: ``(1 + scale) (u + r x u)`` for a small rotation vector ``r`` [rad].
+
+    Examples
+    --------
+    >>> e = [Effect("frame", None, (("rz", 0.01), ("scale", 0.0)))]
+    >>> measured(e, [[1.0, 0.0, 0.0]]).round(6)
+    array([[1.  , 0.01, 0.  ]])
+    """
+    u = np.asarray(u, dtype=float)
+    for e in effects:
+        if e.kind == "frame":
+            r = np.array([e.get("rx", 0.0), e.get("ry", 0.0), e.get("rz", 0.0)])
+            u = (1.0 + e.get("scale", 0.0)) * (u + np.cross(r, u))
+    return u
+
+
+__all__ += ["ADDED", "added_deflection", "measured"]

@@ -30,7 +30,7 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
     _add_validation_common(p)
     p.add_argument("--effect", action="append", default=[],
                    help="hidden effect, e.g. backlash:j2=0.1mrad (repeatable)")
-    p.add_argument("--noise", default="15um", help="tracker noise, e.g. 15um")
+    p.add_argument("--noise", default="15um", help="tracker noise, e.g. 15um (or 15µm)")
     p.add_argument("--poses", default="P1,P2,P3", help="named poses (P1,P2), or joint "
                    "angles [deg] of each pose separated by ';' (0,52,-19,12,-15,-11;...)")
     p.add_argument("--loads", default="0:800:100", help="load levels [N] start:stop:step")
@@ -62,7 +62,7 @@ def _run_lab(args) -> int:
 def _add_compare(p: argparse.ArgumentParser) -> None:
     p.add_argument("data", help="measurement CSV: static, modal or frf (recognised by columns)")
     _add_validation_common(p)
-    p.add_argument("--noise", type=float, default=15.0, help="tracker noise [um] (no sigma column)")
+    p.add_argument("--noise", type=float, default=15.0, help="tracker noise [µm] (no sigma column)")
     p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%] (modal)")
     p.add_argument("-o", "--output", default=None, help="report folder (CSV, PNG)")
 
@@ -84,10 +84,12 @@ def _run_compare(args) -> int:
 def _add_diagnose(p: argparse.ArgumentParser) -> None:
     p.add_argument("data", help="static measurement CSV")
     _add_validation_common(p)
-    p.add_argument("--noise", type=float, default=15.0, help="tracker noise [um] (no sigma column)")
+    p.add_argument("--noise", type=float, default=15.0, help="tracker noise [µm] (no sigma column)")
     p.add_argument("--apply", action="store_true", help="write a robot TOML with the accepted "
                    "effects and fitted parameters (-o)")
     p.add_argument("-o", "--output", default=None, help="robot TOML for --apply")
+    p.add_argument("--force", action="store_true", help="--apply even when the diagnosis "
+                   "ends with an unexplained misfit (first line of the report)")
     p.add_argument("--report", default=None, help="folder for the history CSV/JSON/PNG")
     p.add_argument("--noise-model", default="shared", choices=["shared", "independent"],
                    help="shared reference reading (GLS, default) or independent rows (only "
@@ -111,5 +113,5 @@ def _run_diagnose(args) -> int:
     if args.report:
         wrote(run.write_history(args.report))
     if args.apply:
-        wrote([run.write_robot(args.output)])
+        wrote([run.write_robot(args.output, force=args.force)])
     return 0

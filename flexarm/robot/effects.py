@@ -13,14 +13,23 @@ kind              parameters                                  model
 ``base``          ``compliance`` [rad/(N m)]                  foundation tilt about x, y
 ``wrist``         ``c45``, ``c46``, ``c56`` [rad/(N m)]       coupled wrist compliance
 ``links``         ``compliance`` [-]                          link flexibility
+``tool``          ``cxx`` ... ``cyz`` [m/N]                   tool/adapter compliance,
+                                                              3x3 in the tool frame
+``balancer``      ``kc``, ``ks`` [N m/rad]                    gravity balancer: stiffness
+                                                              ``kc cos q + ks sin q``
+                                                              in parallel with the gear
+``frame``         ``rx``, ``ry``, ``rz`` [rad], ``scale`` [-]  tracker frame misaligned:
+                                                              small rotation and scale
 ================  ==========================================  ============================
 
 :func:`parse_effect` reads the command-line form ``backlash:j2=0.1mrad``,
 ``hardening:j1=0.5,t=400Nm`` (``K1/K2 = 0.5`` below 400 N m), ``hysteresis:j2=0.1mrad,r=300Nm``,
 ``tilt:j2=1e7`` (added tilt stiffness [N m/rad]), ``base:k=2e7`` (foundation tilt stiffness
 [N m/rad]), ``wrist:c45=0.5,c56=0.3`` (correlations of the wrist compliances),
-``stiffness:j3=1.3`` (torsion *stiffness* x 1.3) and ``links:c=1`` (the flexible model's
-links).  How an effect changes an arm model is :mod:`flexarm.assembly.effects`.
+``stiffness:j3=1.3`` (torsion *stiffness* x 1.3), ``links:c=1`` (the flexible model's
+links), ``tool:cxx=2e-7,cyz=5e-8`` (tool-frame compliance [m/N]), ``balancer:j2=3e5,s=1e5``
+(balancer stiffness ``kc`` and ``ks`` [N m/rad]) and ``frame:rz=1.5deg,scale=0.002``.
+How an effect changes an arm model is :mod:`flexarm.assembly.effects`.
 """
 
 from __future__ import annotations
@@ -30,11 +39,15 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["Effect", "parse_effect", "KINDS", "NONLINEAR"]
+__all__ = ["Effect", "parse_effect", "KINDS", "NONLINEAR", "TOOL_PARAMS", "TOOL_INDEX"]
 
 #: Effects that make a joint law nonlinear (the robot file's ``[nonlinear]`` table).
 NONLINEAR = ("backlash", "hardening", "hysteresis")
-KINDS = ("stiffness", "backlash", "hardening", "hysteresis", "tilt", "base", "wrist", "links")
+KINDS = ("stiffness", "backlash", "hardening", "hysteresis", "tilt", "base", "wrist", "links",
+         "tool", "balancer", "frame")
+#: Parameters of the tool-frame compliance, in the order of :data:`TOOL_INDEX`.
+TOOL_PARAMS = ("cxx", "cyy", "czz", "cxy", "cxz", "cyz")
+TOOL_INDEX = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
 _UNITS = {"": 1.0, "rad": 1.0, "mrad": 1e-3, "urad": 1e-6, "nm": 1.0, "knm": 1e3,
           "nm/rad": 1.0, "deg": np.pi / 180}
 
@@ -118,7 +131,8 @@ def parse_effect(spec: str, n_joints: int = 6) -> Effect:
             if not 0 <= joint < n_joints:
                 raise ValueError(f"effect '{spec}': joint {joint + 1} outside 1..{n_joints}")
             amount = _value(items.pop(k))
-    needs_joint = kind in ("stiffness", "backlash", "hardening", "hysteresis", "tilt")
+    needs_joint = kind in ("stiffness", "backlash", "hardening", "hysteresis", "tilt",
+                           "balancer")
     if needs_joint and joint is None:
         raise ValueError(f"effect '{spec}': name the joint, e.g. {kind}:j2=...")
     if kind == "stiffness":
@@ -138,4 +152,11 @@ def parse_effect(spec: str, n_joints: int = 6) -> Effect:
     if kind == "wrist":
         return Effect(kind, None, tuple((f"rho{k[1:]}", _value(v)) for k, v in items.items()
                                         if k in ("c45", "c46", "c56")))
+    if kind == "tool":
+        return Effect(kind, None, tuple((k, _value(items.get(k, "0"))) for k in TOOL_PARAMS))
+    if kind == "balancer":
+        return Effect(kind, joint, (("kc", amount), ("ks", _value(items.get("s", "0")))))
+    if kind == "frame":
+        return Effect(kind, None, tuple((k, _value(items.get(k, "0")))
+                                        for k in ("rx", "ry", "rz", "scale")))
     raise ValueError(f"unknown effect kind '{kind}' (known: {', '.join(KINDS)})")

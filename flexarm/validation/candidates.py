@@ -30,7 +30,11 @@ __all__ = ["Candidate", "Screen", "library", "screen", "load_proposal"]
 
 #: Typical sizes of amplitudes (signature scaling; untestable check).
 TYPICAL = {"width": 1e-4, "lost": 1e-4, "compliance_tilt": 2e-8, "compliance_base": 2e-8,
-           "wrist": 1e-6}
+           "wrist": 1e-6, "tool": 5e-8, "frame_rotation": 1e-2,
+           "balancer": 0.1}  # balancer: fraction of the joint's gear stiffness
+#: Readable names of the candidates without a joint.
+LABELS = {"links": "link flexibility", "tool": "tool/adapter compliance",
+          "frame": "measurement frame misalignment"}
 
 
 @dataclass(frozen=True)
@@ -51,7 +55,7 @@ class Candidate:
     @property
     def label(self) -> str:
         if self.joint is None:
-            return {"links": "link flexibility"}.get(self.kind, self.kind)
+            return LABELS.get(self.kind, self.kind)
         return f"joint {self.joint + 1} {self.kind}"
 
     @property
@@ -89,6 +93,23 @@ def library(problem: Problem) -> list[Candidate]:
         out.append(Candidate("wrist", None, ("c45", "c46", "c56"), (TYPICAL["wrist"],) * 3))
     if getattr(problem, "flexible", None) is not None:
         out.append(Candidate("links", None, ("compliance",), (1.0,)))
+    out += _measurement_candidates(problem)
+    return out
+
+
+def _measurement_candidates(problem: Problem) -> list[Candidate]:
+    """Tool/adapter compliance, the measurement frame and a balancer on each of the first
+    three joints whose angle differs between series (it is a pose-dependent stiffness)."""
+    from ..robot.effects import TOOL_PARAMS
+
+    out = [Candidate("tool", None, TOOL_PARAMS, (TYPICAL["tool"],) * 6),
+           # a scale of the frame is all the joint compliances scaled alike: not a candidate
+           Candidate("frame", None, ("rx", "ry", "rz"), (TYPICAL["frame_rotation"],) * 3)]
+    angles = problem.data.q[problem.ref]
+    for j in range(min(3, problem.arm.chain.n_joints)):
+        if len(np.unique(np.round(angles[:, j], 6))) >= 2:
+            k = TYPICAL["balancer"] * problem.arm.joints[j].torsion
+            out.append(Candidate("balancer", j, ("kc", "ks"), (k, k)))
     return out
 
 

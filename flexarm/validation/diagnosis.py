@@ -59,6 +59,14 @@ class Checks:
         coupled wrist).
     distinct : bool
         No aliased candidate correlated with it explains more (False: it is a proxy).
+    trusted : bool
+        Its unique share of the signature is at least ``tol.trusted_share``, or its refit
+        leaves no load-linear structure (tool frame, joint angle, measurement frame): an
+        amplitude mostly borrowed from the other parameters is trusted only if it does
+        not stand in for such a structure.
+    clean : bool
+        Its refit leaves no measurement-side structure (offsets, drift, frame): an effect
+        fitted under such a fault is a proxy of it.
     """
 
     dbic: bool
@@ -66,6 +74,8 @@ class Checks:
     plausible: bool
     interval: bool
     distinct: bool = True
+    trusted: bool = True
+    clean: bool = True
 
     @property
     def passed(self) -> bool:
@@ -204,6 +214,9 @@ class Diagnosis:
         The full final model (baseline scales included).
     notes : tuple of str
         Effects these data cannot test, and why.
+    misfit : Misfit or None
+        The verdict on the final model (:mod:`~flexarm.validation.misfit`): does it explain
+        the data, and the structure of its residual.
     """
 
     steps: tuple
@@ -211,6 +224,12 @@ class Diagnosis:
     accepted: tuple
     final_effects: tuple
     notes: tuple = field(default_factory=tuple)
+    misfit: object = None
+
+    @property
+    def unexplained(self) -> bool:
+        """The final model leaves an unexplained misfit (False without a verdict)."""
+        return bool(self.misfit is not None and self.misfit.unexplained)
 
     @property
     def final(self) -> Step:
@@ -267,8 +286,10 @@ def diagnosis_text(dg: Diagnosis) -> str:
     v0 baseline: chi2_red 1.020 (band 0.800-1.200), RMS fitted 15.0 um, held-out 16.0 um
     note: payload: untestable
     """
-    lines = identifiability_lines(dg.identifiability)
+    lines = [dg.misfit.headline()] if dg.unexplained else []
+    lines += identifiability_lines(dg.identifiability)
     for i, step in enumerate(dg.steps):
         lines += step_lines(i, step)
+    lines += [] if dg.misfit is None else dg.misfit.lines()
     lines += [f"note: {n}" for n in dg.notes]
     return "\n".join(lines)

@@ -59,21 +59,46 @@ def explain(problem, cand, effect, theta, se) -> str:
                 f"compliant as the CAD flexible model: with the joint compliances fitted to "
                 f"the statics, the rigid-link model cannot also match the natural "
                 f"frequencies")
+    if cand.kind in ("tool", "frame", "balancer"):
+        return _explain_measurement(problem, cand, effect, theta, se)
     return f"{cand.label}: {theta}"
 
 
-def static_notes(arm: ArmModel, links_tested: bool = False) -> tuple[str, ...]:
-    """Effects of the library that relative static TCP data cannot test, and why."""
+def _pairs(effect, theta, se, unit: str, scale: float = 1.0) -> str:
+    names = [k for k, v in effect.params if v != 0]
+    return ", ".join(f"{a} = {t * scale:.3g} ± {s * scale:.2g}{unit}"
+                     for a, t, s in zip(names, theta, se, strict=False))
+
+
+def _explain_measurement(problem, cand, effect, theta, se) -> str:
+    """The tool, frame and balancer candidates in one sentence."""
+    if cand.kind == "tool":
+        return (f"tool/adapter compliance in the tool frame ({_pairs(effect, theta, se, '')} "
+                f"m/N): the extra deflection follows the tool's orientation, the same at every "
+                f"pose (not written to the robot file: model the adapter)")
+    if cand.kind == "frame":
+        return (f"measurement frame misaligned ({_pairs(effect, theta, se, ' rad')}): every "
+                f"deflection is turned alike (a tracker alignment error, not the robot; not "
+                f"written to the robot file)")
+    j = cand.joint
+    qs = np.degrees(np.unique(np.round(problem.data.q[problem.ref, j], 6)))
+    return (f"joint {j + 1} gravity balancer: stiffness kc cos q{j + 1} + ks sin q{j + 1} in "
+            f"parallel with the gear ({_pairs(effect, theta, se, '')} N m/rad): joint "
+            f"{j + 1}'s compliance changes with its angle across the series at q{j + 1} = "
+            f"{', '.join(f'{v:.0f}' for v in qs)} deg (not written to the robot file)")
+
+
+def static_notes(arm: ArmModel, links_tested: bool = False, problem=None,
+                 structure=None) -> tuple[str, ...]:
+    """Effects the library cannot or did not test on the data at hand, and why.
+
+    With ``problem`` (the data) the balancer and payload notes count the data's series
+    and joint angles; with ``structure`` (the final model's
+    :class:`~flexarm.validation.residual_structure.ResidualStructure`) the kinematics
+    note quotes the load-linear residual tests.
+    """
     flexible = any(not b.is_rigid for b in arm.bodies)
-    notes = [
-        "payload mass: untestable with relative static data (its weight cancels against the "
-        "first reading); it only moves the torque where backlash switches: add absolute sag "
-        "or modal data",
-        "joint-2 gravity compensator: untestable with relative static data at fixed poses "
-        "(a q2-dependent torque is constant within a series): add series at several q2",
-        "kinematic (DH) errors: not applicable: the file holds displacements relative to "
-        "each series' first reading, not absolute positions",
-    ]
+    notes = [_payload_note(problem), _balancer_note(problem), _kinematics_note(structure)]
     if flexible:
         notes.append("link flexibility: part of this model (flexible links)")
     elif not links_tested:
@@ -82,3 +107,37 @@ def static_notes(arm: ArmModel, links_tested: bool = False) -> tuple[str, ...]:
                       "not tested here: give the flexible model (diagnose --flexible) and "
                       "modal data (--modal)")
     return tuple(notes)
+
+
+def _payload_note(problem) -> str:
+    n = "each" if problem is None else f"each of the {len(problem.groups)}"
+    return (f"payload mass: untestable with relative static data (its weight cancels "
+            f"against the first reading of {n} series); it only moves the torque where "
+            f"backlash switches: add absolute sag or modal data")
+
+
+def _balancer_note(problem) -> str:
+    if problem is None or problem.arm.chain.n_joints < 2:
+        return ("joint-2 gravity balancer: a q2-dependent stiffness needs series at "
+                "several q2")
+    q2 = np.degrees(np.unique(np.round(problem.data.q[problem.ref, 1], 6)))
+    listed = ", ".join(f"{v:.0f}" for v in q2)
+    if len(q2) >= 3:
+        return (f"joint-2 gravity balancer: tested as a candidate (series at q2 = {listed} "
+                f"deg)")
+    return (f"joint-2 gravity balancer: untestable: the series span {len(q2)} q2 value(s) "
+            f"({listed} deg) and a torque constant within a series cancels: add series at "
+            f"3 or more q2")
+
+
+def _kinematics_note(structure) -> str:
+    head = ("kinematic errors (tool offset, DH): the file holds displacements relative to "
+            "each series' first reading, so only their effect on the load's lever arms shows")
+    if structure is None:
+        return head
+    tests = {t.name: t for t in structure.tests}
+    parts = [f"{tests[k].label} p {tests[k].p_value:.2g}" for k in ("tool", "joint_angle")
+             if k in tests]
+    seen = any(tests[k].found for k in ("tool", "joint_angle") if k in tests)
+    return (head + (": a load-linear residual is left (" if seen else ": none is left (")
+            + "; ".join(parts) + ")")

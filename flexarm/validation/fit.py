@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..assembly.analyses import tcp_compliance
-from ..assembly.effects import apply_effects
+from ..assembly.effects import ADDED, added_deflection, apply_effects, measured
 from ..assembly.linkflex import links_arm, split_links
 from ..assembly.statics import joint_moments, series_starts
 from ..assembly.system import ArmModel
@@ -70,10 +70,14 @@ class Problem:
     flexible : ArmModel, optional
         The flexible model of the same robot, for the ``links`` effect
         (:mod:`~flexarm.assembly.linkflex`).
+    discount : (n,) bool, optional
+        Readings left out of the fit (outliers): their uncertainty is multiplied by
+        ``tol.discount_factor`` and they no longer count as observations.
     """
 
     def __init__(self, arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
-                 noise_model: str = "shared", flexible: ArmModel | None = None):
+                 noise_model: str = "shared", flexible: ArmModel | None = None,
+                 discount: np.ndarray | None = None):
         if noise_model not in ("shared", "independent"):
             raise ValueError(f"noise_model must be 'shared' or 'independent', got {noise_model}")
         self.arm, self.data, self.noise_model = arm, data, noise_model
@@ -82,6 +86,9 @@ class Problem:
         self.ref = series_starts(data.series)
         self.is_ref = self.ref == np.arange(n)
         self.sigma = np.full(n, sigma) if data.sigma is None else np.asarray(data.sigma, float)
+        self.discounted = np.zeros(n, bool)
+        if discount is not None:
+            self.discount(discount)
         self.uq, inv = np.unique(data.q, axis=0, return_inverse=True)
         self.pose_index = inv.ravel()
         self.dw = np.zeros((n, 6))
@@ -90,15 +97,30 @@ class Problem:
             self.dw[:, 3:] = data.moment
         self.dw -= self.dw[self.ref]
         self.tau = joint_moments(arm, data.q, data.force, data.moment)[:, :, 0]
+        self.dtau = self.tau - self.tau[self.ref]
         self.J = jacobian(arm.chain, data.q)[:, :3, :]
         self.groups = [np.flatnonzero(self.ref == s) for s in np.unique(self.ref)]
         self.series_id = np.searchsorted(np.unique(self.ref), self.ref)
         self.y = np.asarray(data.disp, float)
 
+    def discount(self, rows) -> None:
+        """Leave the readings ``rows`` (bool mask or indices) out of every fit from now on
+        (robust handling of outliers): their sigma grows by ``tol.discount_factor``."""
+        mask = np.zeros(len(self.sigma), bool)
+        mask[np.asarray(rows)] = True
+        new = mask & ~self.discounted
+        self.sigma = np.where(new, self.sigma * tol.discount_factor, self.sigma)
+        self.discounted = self.discounted | mask
+
+    @property
+    def n_obs_static(self) -> int:
+        """Independent observations: 3 per non-reference reading, less 3 per discounted one."""
+        return 3 * int((~self.is_ref).sum() - self.discounted.sum())
+
     @property
     def n_obs(self) -> int:
-        """Independent observations: 3 per non-reference reading."""
-        return 3 * int((~self.is_ref).sum())
+        """Independent observations (:attr:`n_obs_static`; subclasses add their own)."""
+        return self.n_obs_static
 
     # ----- model predictions
     def law_signature(self, joint: int, shape) -> np.ndarray:
@@ -122,7 +144,9 @@ class Problem:
         for j, js in laws.items():
             for law in js:
                 u += self.law_signature(j, law.deflection)
-        return u
+        if any(e.kind in ADDED for e in effects):
+            u = u + added_deflection(arm, effects, self.data.q, self.dw[:, :3], self.dtau)
+        return measured(effects, u)
 
     # ----- noise model
     def whiten(self, A: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
@@ -157,8 +181,8 @@ class Problem:
         return self.whiten(self.y, rows)
 
     def n_obs_rows(self, rows: np.ndarray | None = None) -> int:
-        keep = ~self.is_ref if rows is None else (~self.is_ref & rows)
-        return 3 * int(keep.sum())
+        keep = np.ones(len(self.is_ref), bool) if rows is None else rows
+        return 3 * int((~self.is_ref & keep).sum() - (self.discounted & keep).sum())
 
 
 @dataclass(frozen=True)
@@ -293,19 +317,42 @@ def chi2_band(dof: float, coverage: float = tol.chi2_band_coverage) -> tuple[flo
     return float(chi2.ppf(a, dof) / dof), float(chi2.ppf(1 - a, dof) / dof)
 
 
-def heldout_rms(problem: Problem, effects, free, scales, prior, folds: int = tol.cv_folds
-                ) -> float:
-    """RMS [m] of the raw relative residual on held-out series (round-robin folds)."""
+def heldout_rms(problem: Problem, effects, free, scales, prior, folds: int = tol.cv_folds,
+                by: str | None = None) -> float:
+    """RMS [m] of the raw relative residual on held-out readings or series.
+
+    ``by`` (default ``tol.heldout_by``): ``"readings"`` holds out every ``folds``-th
+    reading of every series (stratified: each fold holds readings of every series, so a
+    torque reversal seen in one series only is still both fitted and tested; a held-out
+    reading leaves the fit as a discounted one does); ``"series"`` holds out whole series
+    (round-robin over a fixed permutation).  Discounted readings are never tested.
+    """
+    import copy
+
+    by = by or tol.heldout_by
+    if by not in ("readings", "series"):
+        raise ValueError(f"heldout by must be 'readings' or 'series', got {by}")
     sid = problem.series_id
     n_s = sid.max() + 1
     if n_s < folds:
         return float("nan")
-    fold_of = np.random.default_rng(0).permutation(n_s) % folds  # fixed, mixes directions
+    perm = np.random.default_rng(0).permutation(n_s)  # fixed, mixes directions
+    if by == "series":
+        fold_of = (perm % folds)[sid]
+    else:
+        pos = np.arange(len(sid)) - problem.ref  # position within the series
+        fold_of = (pos + perm[sid]) % folds
+    usable = ~problem.is_ref & ~problem.discounted
     sq, cnt = 0.0, 0
     for k in range(folds):
-        test = fold_of[sid] == k
-        fr = fit_model(problem, effects, free, scales, prior, rows=~test, iterations=2)
-        r = (problem.y - problem.predict(fr.effects))[test & ~problem.is_ref]
+        test = fold_of == k
+        if by == "series":
+            fr = fit_model(problem, effects, free, scales, prior, rows=~test, iterations=2)
+        else:
+            train = copy.copy(problem)
+            train.discount(np.flatnonzero(test & ~problem.is_ref))
+            fr = fit_model(train, effects, free, scales, prior, iterations=2)
+        r = (problem.y - problem.predict(fr.effects))[test & usable]
         sq += float((r**2).sum())
         cnt += r.size
     return float(np.sqrt(sq / max(cnt, 1)))

@@ -19,23 +19,28 @@ from pathlib import Path
 
 import numpy as np
 
-from ..assembly.effects import apply_effects
+from ..assembly.effects import ADDED, added_deflection, apply_effects, measured
 from ..assembly.linkflex import links_arm, split_links
-from ..assembly.statics import relative_deflection
+from ..assembly.statics import joint_moments, relative_deflection
 from ..assembly.system import ArmModel
 from ..fe.files import atomic_path
 from ..fe.typing import ArrayLike, PathType
 from ..robot.description import Robot, pose_from_string
 from ..robot.effects import Effect, parse_effect
+from .compare_shapes import shape_builds
 from .formats import write_modal, write_static
+from .formats.csv_points import write_points
+from .formats.uff import EXTENSIONS as UFF_EXTENSIONS
+from .formats.uff_write import write_uff
 from .measurements import ModalData, StaticData
-from .modal import virtual_modal
+from .modal import virtual_frfs, virtual_modal, virtual_shapes
 from .models import DEFAULT_OPTIONS, ValidationOptions, load, validation_models
+from .shape_data import Points, ShapeData
 from .tolerances import tol
 from .units import parse_quantity
 
 __all__ = ["LabPlan", "parse_dirs", "parse_loads", "virtual_lab", "write_lab", "LabFiles",
-           "LabResult", "run_lab"]
+           "LabResult", "run_lab", "lab_shapes"]
 
 log = logging.getLogger(__name__)
 
@@ -121,6 +126,10 @@ def virtual_lab(arm: ArmModel, plan: LabPlan, effects: list[Effect] = (), noise:
     labels = np.array(series)
     ref = np.flatnonzero(np.r_[True, labels[1:] != labels[:-1]])
     start = ref[np.cumsum(np.r_[True, labels[1:] != labels[:-1]]) - 1]
+    if any(x.kind in ADDED for x in rest):
+        tau = joint_moments(arm, q, force)[:, :, 0]
+        u = u + added_deflection(truth, rest, q, force - force[start], tau - tau[start])
+    u = measured(rest, u)
     if ref_noise > 0:
         e[ref] += ref_noise * rng.standard_normal((len(ref), 3))
     disp = u + e - e[start]
@@ -148,11 +157,13 @@ _COMMENT = "virtual lab data (flexarm lab)"
 
 @dataclass(frozen=True)
 class LabFiles:
-    """Paths :meth:`LabResult.write` wrote: static CSV, its truth JSON, modal CSV (or None)."""
+    """Paths :meth:`LabResult.write` wrote: static CSV, its truth JSON, modal CSV or
+    universal file (or None) and, with a universal file, its points table."""
 
     static: Path
     truth: Path
     modal: Path | None = None
+    points: Path | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,27 +181,56 @@ class LabResult:
         used ``flexible_mesh_m`` [m] and ``freq_noise`` (relative).
     modal : ModalData or None
         Natural frequencies, when asked for.
+    shapes : ShapeData or None
+        With ``modal``: frequencies, damping and mode shapes at ``points``.
+    frfs : tuple of UffFrf
+        With ``modal``: receptances at every point per TCP force, one per pose.
+    points : Points or None
+        The measurement points (:func:`~flexarm.validation.shapes.default_points`).
+    coordinates : (k, 3) float or None
+        The points in the base frame at the first pose [m] (the test geometry).
     """
 
     data: StaticData
     truth: dict
     modal: ModalData | None = None
+    shapes: ShapeData | None = None
+    frfs: tuple = ()
+    points: Points | None = None
+    coordinates: np.ndarray | None = None
 
     def write(self, path: PathType, modal_path: PathType | None = None) -> LabFiles:
         """The static CSV ``path`` with ``<stem>.truth.json`` next to it and, given
         ``modal_path``, the modal CSV (all atomic)."""
-        modal = None
+        modal = points = None
         if modal_path is not None:
             if self.modal is None:
                 raise ValueError("this lab run has no modal data: run it with modal=True")
-            modal = write_modal(modal_path, self.modal, (_COMMENT,))
+            if Path(modal_path).suffix.lower() in UFF_EXTENSIONS:
+                modal, points = self._write_uff(Path(modal_path))
+            else:
+                modal = write_modal(modal_path, self.modal, (_COMMENT,))
         static, truth = write_lab(path, self.data, self.truth)
-        return LabFiles(static, truth, modal)
+        return LabFiles(static, truth, modal, points)
+
+    def _write_uff(self, path: Path) -> tuple[Path, Path]:
+        """Mode shapes (55), FRFs (58) and geometry (15) as a universal file, and the
+        points table ``<stem>.points.csv`` next to it."""
+        if self.shapes is None:
+            raise ValueError("this lab run has no mode shapes: run it with modal=True")
+        uff = write_uff(path, self.shapes, self.frfs, self.points.nodes, self.coordinates,
+                        description=_COMMENT)
+        return uff, write_points(path.with_suffix(".points.csv"), self.points,
+                                 (_COMMENT, f"measurement points of {path.name}"))
 
     def text(self, files: LabFiles) -> str:
         """What the ``lab`` command prints after writing ``files``."""
         lines = [] if files.modal is None else [
             f"wrote {files.modal} ({len(self.modal.freq_hz)} frequencies)"]
+        if files.points is not None:
+            lines = [f"wrote {files.modal} ({len(self.modal.freq_hz)} modes with shapes at "
+                     f"{self.shapes.n_dofs} DOFs, {sum(len(f.H) for f in self.frfs)} FRFs) "
+                     f"and {files.points}"]
         lines.append(f"wrote {files.static} ({len(self.data.series)} readings, "
                      f"{self.data.n_series} series) and {files.truth}")
         return "\n".join(lines)
@@ -274,5 +314,37 @@ def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effec
     if not modal:
         return LabResult(data, truth)
     truth["freq_noise"] = freq_noise_pct / 100
-    return LabResult(data, truth, virtual_modal(models.arm, plan.poses, effects, n_modes,
-                                                freq_noise_pct / 100, seed, models.flexible))
+    modal_data = virtual_modal(models.arm, plan.poses, effects, n_modes, freq_noise_pct / 100,
+                               seed, models.flexible)
+    return LabResult(data, truth, modal_data,
+                     **lab_shapes(models.arm, robot, plan.poses, effects, n_modes,
+                                  freq_noise_pct / 100, seed, flexible=models.flexible,
+                                  builds=shape_builds(models, options)))
+
+
+def lab_shapes(arm: ArmModel, robot: Robot, poses: dict, effects, n_modes: int,
+               freq_noise: float, seed: int, frf_noise: float = 0.02,
+               flexible: ArmModel | None = None, builds=None) -> dict:
+    """Mode shapes and FRFs of the virtual lab at the robot's default points: keyword
+    arguments ``shapes``, ``frfs``, ``points``, ``coordinates`` of :class:`LabResult`.
+
+    The FRFs are receptances at every point (x, y, z) per force at the TCP along x, y
+    and z, from 0.25 Hz in 0.25 Hz steps to 1.2 times the highest mode kept, with
+    ``frf_noise`` relative noise per line.  ``flexible`` and its ``builds`` (for the
+    recovery at the points) serve a link-flexibility effect.
+    """
+    from ..robot.kinematics import link_frames
+    from .shapes import default_points
+
+    points = default_points(robot)
+    shapes = virtual_shapes(arm, poses, points, effects, n_modes, freq_noise, 0.0, seed,
+                            flexible, builds)
+    top = 1.2 * float(shapes.freq_hz.max())
+    freq = 0.25 * np.arange(1, int(np.ceil(top / 0.25)) + 1)
+    tcp = int(points.nodes[-1])
+    frfs = virtual_frfs(arm, poses, points, [(tcp, d) for d in "xyz"], freq, effects,
+                        frf_noise, seed, flexible, builds)
+    F = link_frames(robot.chain, np.asarray(next(iter(poses.values())), float))
+    R, t = F[points.links, :3, :3], F[points.links, :3, 3]
+    coords = np.einsum("kij,kj->ki", R, points.positions) + t
+    return {"shapes": shapes, "frfs": tuple(frfs), "points": points, "coordinates": coords}

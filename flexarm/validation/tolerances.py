@@ -27,8 +27,11 @@ class Tolerances:
     alias_correlation: float = 0.95
     #: Held-out RMS must fall below this fraction of the current model's held-out RMS.
     heldout_gain: float = 0.995
-    #: Number of held-out folds (series assigned round-robin).
+    #: Number of held-out folds.
     cv_folds: int = 3
+    #: What a fold holds out: "readings" (every cv_folds-th reading of every series,
+    #: stratified) or "series" (whole series).
+    heldout_by: str = "readings"
     #: Prior standard deviation of the baseline compliance scale factors [-] (weak).
     baseline_prior_sd: float = 1.0
     #: Relative finite-difference step of model sensitivities.
@@ -42,6 +45,22 @@ class Tolerances:
     #: A winner is only a proxy of an aliased candidate that gains more on the residual
     #: when their unique signatures correlate above this [-] (then it is not accepted).
     proxy_correlation: float = 0.5
+    #: A candidate with less than this share of its signature unique (its amplitude is
+    #: mostly borrowed from the model's other parameters) is accepted only if its refit
+    #: leaves no unexplained misfit (chi^2_red in band, no residual structure) [-].
+    trusted_share: float = 0.25
+    #: False-alarm rate of each residual-structure test (offsets, frame, drift,
+    #: outliers, tool-frame load term, joint angle, joint law), family-wise within a test.
+    structure_alpha: float = 1e-3
+    #: Candidates refitted per round at most (the next is tried when the best fails only
+    #: on trust).
+    max_refits: int = 3
+    #: Largest plausible misalignment of the measurement frame: rotation [rad], scale [-].
+    max_frame_error: float = 0.1
+    #: Largest share of the readings the outlier test may flag, one at a time [-].
+    max_outlier_share: float = 0.1
+    #: Uncertainty multiplier of a discounted reading (outlier) [-].
+    discount_factor: float = 1e3
 
 
 tol = Tolerances()

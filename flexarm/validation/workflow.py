@@ -17,11 +17,13 @@ from ..robot.description import Robot
 from ..robot.formats import write as write_robot_file
 from .compare import Comparison, compare_static
 from .compare_dynamic import FrfComparison, ModalComparison, compare_frf, compare_modal
+from .compare_shapes import compare_with_models
 from .diagnose import Diagnosis, diagnose
 from .formats import read_measurements
 from .history import robot_with_effects, write_history
 from .measurements import FrfData, ModalData, PathData, StaticData
 from .models import DEFAULT_OPTIONS, ValidationModels, ValidationOptions, load, validation_models
+from .shape_data import ShapeData
 
 __all__ = ["compare", "DiagnosisRun", "run_diagnosis"]
 
@@ -70,9 +72,11 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
     >>> [(r.pose, r.input, r.output) for r in cmp.table]
     [('c1', 'y', 'y'), ('c1', 'y', 'x')]
     """
-    data = _read(data)
+    data_path, data = (None if isinstance(data, Measurements) else data), _read(data)
     models = validation_models(robot, options, progress)
     effects = models.effects_with_links()
+    if isinstance(data, ShapeData):  # mode shapes: pairing by MAC
+        return compare_with_models(models, options, data, data_path)
     if isinstance(data, ModalData):
         return compare_modal(models.arm, data, effects, freq_noise_pct / 100, models.flexible)
     if isinstance(data, FrfData):
@@ -113,8 +117,16 @@ class DiagnosisRun:
         (:func:`~.history.write_history`)."""
         return write_history(folder, self.diagnosis)
 
-    def write_robot(self, path: PathType) -> Path:
-        """:meth:`updated_robot` as a robot file (``.toml``), atomically."""
+    def write_robot(self, path: PathType, force: bool = False) -> Path:
+        """:meth:`updated_robot` as a robot file (``.toml``), atomically.
+
+        Refuses (``ValueError``, nothing written) when the diagnosis ends with an
+        unexplained misfit, unless ``force``: the accepted effects would then tell a
+        physical story the data do not support."""
+        if self.diagnosis.unexplained and not force:
+            raise ValueError(f"not writing {path}: the diagnosis ends with an unexplained "
+                             f"misfit ({', '.join(self.diagnosis.misfit.structures)}); "
+                             f"--force writes it anyway")
         return Path(write_robot_file(path, self.updated_robot()))
 
 

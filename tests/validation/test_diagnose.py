@@ -96,9 +96,9 @@ def _wrist_c45(arm):  # the correlation 0.5 of the lab arm's compliances (after 
 #: Base compliance: 1e7 N m/rad (1e-7 rad/(N m)).  At 2e7 it is at this data set's
 #: detection limit: accepted on 17 of seeds 0-19 in scenarios 5 and 9 (its unique
 #: signature is 8 % of the whole; the other draws give dBIC below 10, e.g. 6.8 at seed 3).
-#: Backlash (scenario 1) is accepted on 19 of 20: at seed 2 the held-out check fails
-#: (joint 2's torque reverses in series P2_+z only, so no held-out fold can show the jump;
-#: the held-out RMS only moves through the other joints' compliances).
+#: Backlash (scenario 1): joint 2's torque reverses in series P2_+z only.  With whole
+#: series held out, no fold could show the jump and the held-out check failed at seed 2
+#: (19 of 20); folds of single readings (every third reading of every series) give 20/20.
 SCENARIOS = {
     "1_backlash_j2": Scenario(("backlash:j2=0.1mrad",), (("backlash_j2", "width", 1e-4),), 3),
     "3_hardening_j1": Scenario(("hardening:j1=0.5,t=400Nm",),

@@ -1,0 +1,419 @@
+"""What is left in the residual of a fitted model: tests for structure, each with a
+stated false-alarm rate, and the noise scale.
+
+The residual ``y - predict(effects)`` is whitened in the GLS metric of the noise model
+(:meth:`~flexarm.validation.fit.Problem.whiten`).  Each test regresses it on a few
+columns that a missing effect outside the candidate library would leave, projected off
+the fitted model's own sensitivities, and compares the gain with the rest of the
+residual (an F test: a noise level larger than stated does not set it off).  Tests over
+a family (every joint, every series) take the smallest p-value times the family size
+(Bonferroni), so each test as a whole has the false-alarm rate ``alpha``:
+
+* ``offsets``: the readings of one series share an offset against its reference
+  reading (the reference was off; the tracker re-locked);
+* ``outliers``: isolated readings far out, from robust standardised residuals (scale by
+  the median absolute deviation), named by series and step;
+* ``frame``: a small rotation or scale of the measurement frame (``r x u`` and ``u`` of
+  the model's deflections);
+* ``drift``: the tracker drifts in reading order (linear in the reading index);
+* ``tool``: a residual linear in the load with a pose-independent direction in the tool
+  frame (``R E R^T dF`` for the six symmetric unit matrices ``E``);
+* ``joint_angle``: a joint's compliance changing with its angle across series;
+* ``joint_law``: a joint's deflection nonlinear in its torque (smooth odd and even
+  terms ``tau |tau|`` and ``tau^3``).
+
+Readings flagged as outliers are left out of the other tests.  ``noise_scale`` is the
+residual's RMS per degree of freedom (outliers left out) relative to the stated sigma.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .tolerances import tol
+
+__all__ = ["StructureTest", "ResidualStructure", "residual_structure", "STRUCTURES"]
+
+#: Test names and what they mean, in report order.
+STRUCTURES = {
+    "offsets": "per-series offset",
+    "outliers": "isolated outliers",
+    "frame": "rotation/scale of the measurement frame",
+    "drift": "drift in reading order",
+    "tool": "load-linear residual fixed in the tool frame",
+    "joint_angle": "compliance changing with a joint angle across series",
+    "joint_law": "joint deflection nonlinear in its torque",
+}
+
+
+@dataclass(frozen=True)
+class StructureTest:
+    """One residual-structure test.
+
+    Attributes
+    ----------
+    name : str
+        Key of :data:`STRUCTURES` (``"drift"``).
+    p_value : float
+        Family-wise p-value (Bonferroni over joints or series or readings) [-].
+    alpha : float
+        False-alarm rate: the structure is reported when ``p_value < alpha`` [-].
+    where : str
+        The member of the family that gave the smallest p-value (``"joint 2"``,
+        ``"series P1_+x"``, ``"P1_+x step 4, P2_-z step 7"``), or "".
+    size : str
+        The fitted size of the structure in physical units ("4.9 µm per reading").
+    """
+
+    name: str
+    p_value: float
+    alpha: float
+    where: str = ""
+    size: str = ""
+
+    @property
+    def found(self) -> bool:
+        return bool(self.p_value < self.alpha)
+
+    @property
+    def label(self) -> str:
+        return STRUCTURES[self.name]
+
+    def line(self) -> str:
+        """``drift in reading order: p 3e-12 < 0.001 (4.9 µm per reading)``."""
+        rel = "<" if self.found else ">="
+        extra = ", ".join(t for t in (self.where, self.size) if t) if self.found else ""
+        return (f"{self.label}: p {self.p_value:.2g} {rel} {self.alpha:g}"
+                + (f" ({extra})" if extra else ""))
+
+
+@dataclass(frozen=True)
+class ResidualStructure:
+    """All residual-structure tests of one fitted model and the noise scale.
+
+    Attributes
+    ----------
+    tests : tuple of StructureTest
+        In :data:`STRUCTURES` order.
+    noise_scale : float
+        Residual RMS per degree of freedom over the stated sigma, outliers left out [-].
+    outliers : tuple of (str, int, float)
+        Flagged readings: series, step, robust standardised size (in noise sigmas).
+    outlier_rows : tuple of int
+        Their row indices in the data.
+    dof : float
+        Degrees of freedom of the residual the F tests use.
+    """
+
+    tests: tuple
+    noise_scale: float
+    outliers: tuple = ()
+    outlier_rows: tuple = ()
+    dof: float = 0.0
+
+    @property
+    def found(self) -> tuple:
+        """The tests that found structure, smallest p-value first."""
+        return tuple(sorted((t for t in self.tests if t.found), key=lambda t: t.p_value))
+
+    def test(self, name: str) -> StructureTest:
+        return next(t for t in self.tests if t.name == name)
+
+
+def _entry_rows(problem) -> np.ndarray:
+    """Row index of each entry of a whitened (n, 3) array."""
+    n = len(problem.is_ref)
+    keep = np.ones(n, bool) if problem.noise_model == "shared" else ~problem.is_ref
+    return np.repeat(np.flatnonzero(keep), 3)
+
+
+def _project_off(Q: np.ndarray, A: np.ndarray) -> np.ndarray:
+    return A - Q @ (Q.T @ A) if Q.shape[1] else A
+
+
+def _basis(X: np.ndarray) -> np.ndarray:
+    if X.size == 0:
+        return np.zeros((X.shape[0], 0))
+    U, sv, _ = np.linalg.svd(X, full_matrices=False)
+    return U[:, sv > sv.max() * 1e-8] if sv.max() > 0 else np.zeros((X.shape[0], 0))
+
+
+def _f_test(r: np.ndarray, G: np.ndarray, dof: float) -> tuple[float, np.ndarray]:
+    """p-value of the F test of columns ``G`` (already projected) on residual ``r``, and
+    the fitted coefficients."""
+    from scipy.stats import f as fdist
+
+    if G.size == 0 or not np.any(G):
+        return 1.0, np.zeros(G.shape[1] if G.ndim == 2 else 0)
+    coef, *_ = np.linalg.lstsq(G, r, rcond=1e-10)
+    gain = float(np.sum((G @ coef) ** 2))
+    k = int(np.linalg.matrix_rank(G, tol=1e-8 * np.abs(G).max()))
+    rest = float(r @ r) - gain
+    if k == 0 or dof - k <= 0 or rest <= 0:
+        return 1.0, coef
+    F = (gain / k) / (rest / (dof - k))
+    return float(fdist.sf(F, k, dof - k)), coef
+
+
+class _Residual:
+    """The whitened residual with its regressor machinery (outlier rows masked)."""
+
+    def __init__(self, problem, effects, sensitivity: np.ndarray, n_fit: float):
+        self.problem = problem
+        self.u = problem.predict(effects)
+        raw = problem.y - self.u
+        self.r_all = problem.whiten(raw)
+        m = len(self.r_all)
+        self.rows = _entry_rows(problem)
+        self.X = sensitivity[:m]
+        self.n_fit = n_fit
+        self.mask = np.ones(m, bool)
+        self.extra: list = []  # raw regressors of the structures already found
+
+    def masked(self, rows: np.ndarray) -> None:
+        self.mask = ~np.isin(self.rows, rows)
+
+    def dof(self, n_out: int) -> float:
+        k = sum(A.shape[-1] for A in self.extra)
+        return max(self.problem.n_obs_static - self.n_fit - 3 * n_out - k, 1.0)
+
+    def columns(self, A: np.ndarray) -> np.ndarray:
+        """Whitened raw (n, 3, k) regressors, masked and projected off the model."""
+        W = self.problem.whiten(A)[self.mask]
+        return _project_off(self.Q, W)
+
+    def prepare(self) -> None:
+        """Basis of the model and the structures found so far, and the residual off it."""
+        X = self.X[self.mask]
+        if self.extra:
+            X = np.column_stack([X] + [self.problem.whiten(A)[self.mask] for A in self.extra])
+        self.Q = _basis(X)
+        self.r = _project_off(self.Q, self.r_all[self.mask])
+
+
+def _outliers(res: _Residual, alpha: float, r: np.ndarray, n_fit: float):
+    """Flagged rows, their robust standardised sizes [sigma] and the first test's p-value.
+
+    Sequential: the reading with the largest robust size (its 3 coordinates over the
+    median absolute deviation, chi^2(3), Bonferroni over the readings) is flagged when
+    below ``alpha``, then fitted out (a free offset of that reading, which also removes
+    its share of its series' reference) before the next is tested, so an outlier does not
+    drag its series' other readings along.
+    """
+    from scipy.stats import chi2
+
+    p = res.problem
+    rows = res.rows[::3]
+    cand = ~p.is_ref[rows] & ~p.discounted[rows]
+    n = max(int(cand.sum()), 1)
+    Q = _basis(res.X)
+    flagged, sizes, p_first = [], [], None
+    for _ in range(max(int(tol.max_outlier_share * n), 1)):
+        keep = ~np.isin(res.rows, rows[flagged])
+        med = np.median(r[keep])
+        s = max(1.4826 * float(np.median(np.abs(r[keep] - med))), 1e-12)
+        d2 = ((r / s).reshape(-1, 3) ** 2).sum(axis=1)
+        d2[~cand] = 0.0
+        k = int(np.argmax(d2))
+        pv = min(1.0, n * float(chi2.sf(d2[k], 3)))
+        p_first = pv if p_first is None else p_first
+        if pv >= alpha:
+            break
+        flagged.append(k)
+        sizes.append(float(np.sqrt(d2[k])))
+        cand[k] = False
+        G = _project_off(Q, p.whiten(_unit_columns(len(p.is_ref), rows[[k]])))
+        r = _project_off(_basis(G), r)
+    return rows[flagged], np.array(sizes), 1.0 if p_first is None else p_first
+
+
+def residual_structure(problem, effects, sensitivity: np.ndarray, n_fit: float,
+                       alpha: float = tol.structure_alpha) -> ResidualStructure:
+    """Residual-structure tests of the model ``effects`` fitted to ``problem``.
+
+    Parameters
+    ----------
+    problem : Problem
+        The data and the arm (:class:`~flexarm.validation.fit.Problem`).
+    effects : sequence of Effect
+        The fitted model.
+    sensitivity : (m, p) float
+        Its whitened sensitivities (``FitResult.sensitivity``; static rows first).
+    n_fit : float
+        Its effective number of fitted parameters (``FitResult.n_identified`` plus the
+        shape parameters).
+    alpha : float
+        False-alarm rate of each test.
+
+    Returns
+    -------
+    ResidualStructure
+    """
+    res = _Residual(problem, effects, sensitivity, n_fit)
+    out_rows, _, _ = _outliers(res, alpha, res.r_all, n_fit)
+    res.masked(out_rows)
+    res.prepare()
+    found = [A for t, A in _structure_tests(res, res.dof(len(out_rows)), alpha)
+             if t.found and A is not None]
+    # structure inflates the tails: judge outliers on the residual without it
+    r, k = _cleaned(res, found)
+    out_rows, out_z, p_out = _outliers(res, alpha, r, n_fit + k)
+    res.masked(out_rows)
+    res.prepare()
+    dof = res.dof(len(out_rows))
+    series = np.asarray(problem.data.series)
+    steps = np.asarray(problem.data.steps)
+    outliers = tuple((str(series[i]), int(steps[i]), float(z))
+                     for i, z in sorted(zip(out_rows, out_z, strict=True), key=lambda t: -t[1]))
+    where = ", ".join(f"{s} step {k}" for s, k, _ in outliers[:4])
+    where += " ..." if len(outliers) > 4 else ""
+    tests = _forward(res, out_rows, alpha)
+    tests.insert(1, StructureTest("outliers", p_out, alpha, where,
+                                  f"{len(outliers)} reading(s)" if outliers else ""))
+    rss = float(res.r @ res.r)
+    return ResidualStructure(tuple(tests), float(np.sqrt(rss / dof)), outliers,
+                             tuple(int(i) for i in out_rows), dof)
+
+
+def _structure_tests(res: _Residual, dof: float, alpha: float):
+    """(test, raw regressors of its best member) of every F test."""
+    return [_offsets(res, dof, alpha), _frame(res, dof, alpha), _drift(res, dof, alpha),
+            _tool(res, dof, alpha), _joint_angle(res, dof, alpha), _joint_law(res, dof, alpha)]
+
+
+def _forward(res: _Residual, out_rows, alpha: float) -> list:
+    """The F tests by forward selection: the most significant structure joins the model
+    and the others are tested again against what is left (so a structure that only
+    correlates with a stronger one is not reported)."""
+    final: dict = {}
+    for _ in range(len(STRUCTURES)):
+        run = _structure_tests(res, res.dof(len(out_rows)), alpha)
+        new = [(t, A) for t, A in run if t.name not in final]
+        best = min(new, key=lambda x: x[0].p_value, default=None)
+        if best is None or not best[0].found or best[1] is None:
+            final.update({t.name: t for t, _ in new})
+            break
+        final[best[0].name] = best[0]
+        res.extra.append(best[1])
+        res.prepare()
+    return [final[k] for k in STRUCTURES if k in final]
+
+
+def _cleaned(res: _Residual, found: list) -> tuple[np.ndarray, int]:
+    """The whole whitened residual with the ``found`` structures (raw regressors) fitted
+    out, and the number of columns removed."""
+    if not found:
+        return res.r_all, 0
+    Q = _basis(res.X)
+    G = _project_off(Q, np.column_stack([res.problem.whiten(A) for A in found]))
+    coef, *_ = np.linalg.lstsq(G, res.r_all, rcond=1e-10)
+    return res.r_all - G @ coef, G.shape[1]
+
+
+def _unit_columns(n: int, rows: np.ndarray, values: np.ndarray | None = None) -> np.ndarray:
+    """(n, 3, 3): ``values`` (or 1) on ``rows`` along x, y, z."""
+    A = np.zeros((n, 3, 3))
+    v = np.ones(len(rows)) if values is None else values
+    for c in range(3):
+        A[rows, c, c] = v
+    return A
+
+
+def _family(res: _Residual, dof: float, members):
+    """Smallest Bonferroni p over ``members`` (label, raw regressors): p, label,
+    coefficients, regressors of the best member."""
+    best = (1.0, "", np.zeros(0), None)
+    members = list(members)
+    for label, A in members:
+        p, coef = _f_test(res.r, res.columns(A), dof)
+        if p < best[0] or not best[1]:
+            best = (p, label, coef, A)
+    return (min(1.0, best[0] * max(len(members), 1)),) + best[1:]
+
+
+def _offsets(res: _Residual, dof, alpha):
+    p = res.problem
+    n = len(p.is_ref)
+    members = [(f"series {p.data.series[g[0]]}", _unit_columns(n, g[1:])) for g in p.groups
+               if len(g) > 1]
+    pv, where, coef, A = _family(res, dof, members)
+    size = f"{np.linalg.norm(coef) * 1e6:.0f} µm" if coef.size else ""
+    return StructureTest("offsets", pv, alpha, where, size), A
+
+
+def _frame(res: _Residual, dof, alpha) -> StructureTest:
+    u = res.u
+    A = np.stack([np.cross(np.eye(3)[a], u) for a in range(3)] + [u], axis=-1)
+    pv, coef = _f_test(res.r, res.columns(A), dof)
+    size = ""
+    if coef.size == 4:
+        size = (f"rotation {np.degrees(np.linalg.norm(coef[:3])):.2f} deg, scale "
+                f"{100 * coef[3]:.2f} % of the model's deflections")
+    return StructureTest("frame", pv, alpha, "", size), A
+
+
+def _drift(res: _Residual, dof, alpha):
+    n = len(res.problem.is_ref)
+    A = _unit_columns(n, np.arange(n), np.arange(n, dtype=float))
+    pv, coef = _f_test(res.r, res.columns(A), dof)
+    size = f"{np.linalg.norm(coef) * 1e6:.1f} µm per reading" if coef.size else ""
+    return StructureTest("drift", pv, alpha, "", size), A
+
+
+def _tool(res: _Residual, dof, alpha):
+    from ..robot.effects import TOOL_INDEX
+    from ..robot.kinematics import tcp_frame
+
+    p = res.problem
+    R = tcp_frame(p.arm.chain, p.data.q)[:, :3, :3]
+    cols = []
+    for a, b in TOOL_INDEX:
+        E = np.zeros((3, 3))
+        E[a, b] = E[b, a] = 1.0
+        cols.append(np.einsum("nij,jk,nlk,nl->ni", R, E, R, p.dw[:, :3]))
+    A = np.stack(cols, axis=-1)
+    pv, _ = _f_test(res.r, res.columns(A), dof)
+    return StructureTest("tool", pv, alpha), A
+
+
+def _joint_members(p, fn):
+    out = []
+    for j in range(p.arm.chain.n_joints):
+        if not np.any(np.abs(p.J[:, :, j]) > 1e-9):
+            continue
+        cols = fn(j)
+        if cols:
+            out.append((f"joint {j + 1}", np.stack([p.J[:, :, j] * c[:, None] for c in cols],
+                                                   axis=-1)))
+    return out
+
+
+def _joint_angle(res: _Residual, dof, alpha):
+    p = res.problem
+    series_q = p.data.q[p.ref]
+
+    def cols(j):
+        angles = np.unique(np.round(series_q[:, j], 6))
+        if len(angles) < 2:
+            return []
+        x = p.data.q[:, j] - angles.mean()
+        out = [p.dtau[:, j] * x]
+        if len(angles) >= 3:
+            out.append(p.dtau[:, j] * x**2)
+        return out
+
+    pv, where, _, A = _family(res, dof, _joint_members(p, cols))
+    return StructureTest("joint_angle", pv, alpha, where), A
+
+
+def _joint_law(res: _Residual, dof, alpha):
+    p = res.problem
+
+    def cols(j):
+        t = p.tau[:, j] / max(float(np.abs(p.tau[:, j]).max()), 1e-9)
+        return [g - g[p.ref] for g in (t * np.abs(t), t**3)]
+
+    pv, where, _, A = _family(res, dof, _joint_members(p, cols))
+    return StructureTest("joint_law", pv, alpha, where), A
