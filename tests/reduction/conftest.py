@@ -29,10 +29,11 @@ def bar10():
     return mesh, end_regions(0.3, 0.04), assemble(mesh, STEEL)
 
 
-@pytest.fixture(autouse=True, scope="session")
+@pytest.fixture(autouse=True, scope="package")
 def _small_matrix_solver():
     """SuperLU for these tiny matrices: creating a PARDISO handle searches the disk for
-    MKL (about 1 s per factorisation), which would dominate the test time."""
+    MKL (about 1 s per factorisation), which would dominate the test time.  Package
+    scope: the default is restored before any test outside ``tests/reduction`` runs."""
     from flexarm.fe.solvers import set_default_backend
 
     set_default_backend("splu")
