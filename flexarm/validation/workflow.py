@@ -12,6 +12,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
 
+import numpy as np
+
 from ..fe.typing import PathType
 from ..robot.description import Robot
 from ..robot.formats import write as write_robot_file
@@ -30,10 +32,14 @@ __all__ = ["compare", "DiagnosisRun", "run_diagnosis"]
 Measurements = StaticData | ModalData | FrfData | PathData
 
 
-def _read(data: Measurements | PathType) -> Measurements:
+def _read(data: Measurements | PathType, robot: Robot | None = None) -> Measurements:
+    """``data`` as read; a file's joint angles are checked against ``robot``'s limits."""
     if isinstance(data, Measurements):
         return data
-    return read_measurements(data)
+    limits = None
+    if robot is not None and len(robot.joints) == 6:  # the schemas carry q1..q6
+        limits = np.column_stack([robot.lower, robot.upper])
+    return read_measurements(data, limits=limits)
 
 
 def compare(data: Measurements | PathType, robot: Robot | PathType | None = None,
@@ -72,7 +78,8 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
     >>> [(r.pose, r.input, r.output) for r in cmp.table]
     [('c1', 'y', 'y'), ('c1', 'y', 'x')]
     """
-    data_path, data = (None if isinstance(data, Measurements) else data), _read(data)
+    robot = load(robot)
+    data_path, data = (None if isinstance(data, Measurements) else data), _read(data, robot)
     models = validation_models(robot, options, progress)
     effects = models.effects_with_links()
     if isinstance(data, ShapeData):  # mode shapes: pairing by MAC
@@ -161,8 +168,8 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
     if robot.effects:
         raise ValueError("diagnose starts from a linear model: the robot file already has "
                          "a [nonlinear] table")
-    data = _read(data)
-    modal = None if modal is None else _read(modal)
+    data = _read(data, robot)
+    modal = None if modal is None else _read(modal, robot)
     if modal is not None:
         options = replace(options, flexible=True)
     models = validation_models(robot, options, progress)

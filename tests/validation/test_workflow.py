@@ -144,3 +144,24 @@ def test_run_diagnosis_text_and_updated_robot(tmp_path, demo, lab):
     assert path == tmp_path / "new.toml" and path.is_file()
     assert [p.name for p in run.write_history(tmp_path / "h")] == [
         "history.csv", "history.json", "history.png"]
+
+
+def test_angles_outside_the_robots_limits_name_file_line_and_column(tmp_path, demo):
+    """A reading at q2 = 160 deg (the demo arm's joint 2 stops at 150 deg) is refused by
+    compare and diagnose with the file, line and column, before any model is used."""
+    from flexarm.fe.errors import ReadError
+
+    text = example_path("static").read_text().splitlines()
+    header = next(i for i, line in enumerate(text) if line.startswith("series,"))
+    cols = [c.strip() for c in text[header].split(",")]
+    first = next(i for i in range(header + 1, len(text)) if not text[i].startswith("#"))
+    row = text[first].split(",")
+    row[cols.index("q2_deg")] = " 160"
+    text[first] = ",".join(row)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("\n".join(text) + "\n")
+    read_measurements(bad)  # plausible angles: readable without a robot
+    for run in (compare, run_diagnosis):
+        with pytest.raises(ReadError, match=r"bad\.csv.*line.*q2.*outside the limits") as exc:
+            run(bad, demo[0])
+        assert "\n" not in str(exc.value)
