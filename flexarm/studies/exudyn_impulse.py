@@ -84,7 +84,7 @@ class ImpulseTest:
 
     def write(self, folder) -> list[Path]:
         """``impulse.png``: the TCP response in time and its receptance against ours."""
-        from ..fe.plotting import pyplot
+        from ..fe.plotting import pyplot, save_figure
 
         plt = pyplot()
         fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 7))
@@ -103,12 +103,7 @@ class ImpulseTest:
         a2.set_ylabel(f"|H| along the pulse [{RECEPTANCE_UNIT}]")
         a2.legend()
         a2.grid(True, which="both", alpha=0.3)
-        path = Path(folder) / "impulse.png"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.tight_layout()
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
-        return [path]
+        return [save_figure(fig, Path(folder) / "impulse.png", dpi=100)]
 
 
 def impulse_response(ea: ExudynArm, direction: ArrayLike, peak: float = 1000.0,

@@ -98,7 +98,7 @@ class PathRun:
 
     def write(self, folder) -> list[Path]:
         """``path_<name>.png``: bar-length change along the path, in time and quasi-static."""
-        from ..fe.plotting import pyplot
+        from ..fe.plotting import pyplot, save_figure
 
         plt = pyplot()
         fig, ax = plt.subplots(figsize=(7, 4))
@@ -109,12 +109,7 @@ class PathRun:
         ax.set_title(f"{self.setup.name}: bar force {self.force:g} N")
         ax.legend()
         ax.grid(True, alpha=0.3)
-        path = Path(folder) / f"path_{self.setup.name}.png"
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fig.tight_layout()
-        fig.savefig(path, dpi=100)
-        plt.close(fig)
-        return [path]
+        return [save_figure(fig, Path(folder) / f"path_{self.setup.name}.png", dpi=100)]
 
 
 def rapid_speed(module, name: str) -> float:

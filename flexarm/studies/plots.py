@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fe.plotting import pyplot
+from ..fe.plotting import pyplot, save_figure
 from ..fe.typing import FloatArray
 
 __all__ = ["plot_frf", "plot_mode_energy", "write_mode_energy"]
@@ -32,11 +32,7 @@ def plot_frf(path, freq_hz: FloatArray, H: FloatArray, title: str = "") -> Path:
     a1.grid(True, which="both", alpha=0.3)
     a2.grid(True, which="both", alpha=0.3)
     a1.set_title(title or "TCP receptance")
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=100, tight=False)
 
 
 def write_mode_energy(folder, freq_hz: FloatArray, energy: FloatArray, joint_names,
@@ -71,9 +67,4 @@ def plot_mode_energy(path, freq_hz: FloatArray, energy: FloatArray, joint_names,
     ax.set_ylabel("strain energy share [-]")
     ax.legend(fontsize=7, ncol=3)
     ax.set_title(title or "strain energy per joint of each mode", fontsize=10)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=100)

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fe.plotting import pyplot
+from ..fe.plotting import pyplot, save_figure
 from ..fe.typing import FloatArray
 
 __all__ = ["plot_history", "plot_residual_vs_torque", "torque_joints", "write_residuals",
@@ -73,12 +73,7 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
     steps = [r["model"].split(" + ")[-1] for r in rows]
     ax.set_title("static error per model version: " + " -> ".join(
         (["nominal"] if nominal_rms is not None else []) + steps), fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=90)
 
 
 def torque_joints(tau: FloatArray) -> np.ndarray:
@@ -118,12 +113,7 @@ def plot_residual_vs_torque(path, tau: FloatArray, residual: FloatArray,
             "not shown)" if left_out else "")
     fig.suptitle((title + ": " if title else "") + "residual vs joint torque" + note,
                  fontsize=8)
-    fig.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=90)
 
 
 def write_residuals(path, series, tau: FloatArray, residual: FloatArray,

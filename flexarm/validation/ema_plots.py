@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fe.plotting import pyplot
+from ..fe.plotting import pyplot, save_figure
 
 __all__ = ["plot_stabilisation", "plot_synthesis"]
 
@@ -31,10 +31,7 @@ def plot_stabilisation(path, pm) -> Path:
     ax.set_title(f"stabilisation diagram, pose {pm.frf.pose} (red: picked modes)",
                  fontsize=9)
     ax.legend(loc="upper left", fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return Path(path)
+    return save_figure(fig, path, dpi=100)
 
 
 def plot_synthesis(path, pm, n_curves: int = 3) -> Path:
@@ -61,7 +58,4 @@ def plot_synthesis(path, pm, n_curves: int = 3) -> Path:
     a2.set_xlabel("frequency [Hz]")
     a1.legend(fontsize=6, ncol=2)
     a1.set_title(f"synthesised vs measured FRF, pose {frf.pose}", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return Path(path)
+    return save_figure(fig, path, dpi=100)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...fe.plotting import pyplot
+from ...fe.plotting import pyplot, save_figure
 from .ball_bar import CirclePrediction
 from .chatter_map import ChatterMap
 
@@ -16,10 +16,7 @@ __all__ = ["plot_circle_top", "plot_circle_polar", "plot_circle_z", "plot_chatte
 
 
 def _save(fig, path) -> Path:
-    path = Path(path)
-    fig.savefig(path, dpi=110, bbox_inches="tight")
-    pyplot().close(fig)
-    return path
+    return save_figure(fig, path, dpi=110, tight=False, bbox_inches="tight")
 
 
 def _runs(pred: CirclePrediction, label: str, compare) -> list:
