@@ -6,6 +6,8 @@ the test module that needs it (with ``scope="module"``).
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -162,3 +164,20 @@ def module():
     from flexarm.robot.formats.rapid import read_rapid
 
     return read_rapid(files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod")
+
+
+@pytest.fixture()
+def figures(monkeypatch):
+    """``{png name: Figure}`` of every figure saved while the test runs: a test compares
+    what is drawn with the CSV written beside it."""
+    import matplotlib.figure
+
+    saved = {}
+    real = matplotlib.figure.Figure.savefig
+
+    def savefig(self, fname, *args, **kwargs):
+        saved[Path(fname).name] = self
+        return real(self, fname, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
+    return saved

@@ -1,7 +1,7 @@
 """Multi-file outputs (``demo``, ``study``) built in a temporary folder and moved into
 place only when complete.
 
-The files are written into a hidden sibling folder ``.<name>.part-XXXX`` (same file
+The files are written into a hidden sibling folder ``.<name>.part-<random>`` (same file
 system, so the final moves are renames).  On success every entry is moved into the
 output folder, replacing entries of the same name and leaving unrelated files alone,
 with the ``last`` entry (the demo's ``index.md``) moved last: its presence means the

@@ -4,7 +4,6 @@ the figure objects), mode shapes for ParaView, format conversion, and CLI habits
 import time
 from pathlib import Path
 
-import matplotlib.figure
 import numpy as np
 import pytest
 
@@ -15,20 +14,6 @@ from flexarm.reduction import formats
 
 IFACES = ["--interface", "a:0,0.02,0.02,1,0,0,0.04,1e-6",
           "--interface", "b:0.4,0.02,0.02,1,0,0,0.04,1e-6"]
-
-
-@pytest.fixture()
-def figures(monkeypatch):
-    """``{png name: Figure}`` of every figure saved while the test runs."""
-    saved = {}
-    real = matplotlib.figure.Figure.savefig
-
-    def savefig(self, fname, *args, **kwargs):
-        saved[Path(fname).name] = self
-        return real(self, fname, *args, **kwargs)
-
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
-    return saved
 
 
 def _csv(path) -> dict:

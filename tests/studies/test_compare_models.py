@@ -1,29 +1,13 @@
 """Model comparison table, CSV and Bode PNG on the box arm."""
 
 import csv
-from pathlib import Path
 
-import matplotlib.figure
 import numpy as np
 import pytest
 
 from flexarm.studies.compare_models import compare_models
 
 from ..box_arm import box_mesher
-
-
-@pytest.fixture()
-def figures(monkeypatch):
-    """``{png name: Figure}`` of every figure saved while the test runs."""
-    saved = {}
-    real = matplotlib.figure.Figure.savefig
-
-    def savefig(self, fname, *args, **kwargs):
-        saved[Path(fname).name] = self
-        return real(self, fname, *args, **kwargs)
-
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
-    return saved
 
 
 def test_compare_models_box_arm(box_robot, tmp_path, figures):

@@ -3,9 +3,6 @@ E-model), and both steps whole (slow: every link is meshed)."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
-import matplotlib.figure
 import numpy as np
 import pytest
 
@@ -25,20 +22,6 @@ from flexarm.studies.demo_models import (
 @pytest.fixture(scope="module")
 def emodel_arm():
     return build_arm(load_robot(), ArmSpec(mass="surface"))
-
-
-@pytest.fixture()
-def figures(monkeypatch):
-    """``{png name: Figure}`` of every figure saved while the test runs."""
-    saved = {}
-    real = matplotlib.figure.Figure.savefig
-
-    def savefig(self, fname, *args, **kwargs):
-        saved[Path(fname).name] = self
-        return real(self, fname, *args, **kwargs)
-
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
-    return saved
 
 
 def test_emodel_pose_rows_come_from_the_compliance_report(emodel_arm):

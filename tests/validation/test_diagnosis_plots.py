@@ -1,6 +1,4 @@
-from pathlib import Path
 
-import matplotlib.figure
 import numpy as np
 import pytest
 
@@ -10,20 +8,6 @@ from flexarm.validation.diagnosis_plots import (
     plot_residual_vs_torque,
     write_residuals,
 )
-
-
-@pytest.fixture()
-def figures(monkeypatch):
-    saved = {}
-    real = matplotlib.figure.Figure.savefig
-
-    def savefig(self, fname, *args, **kwargs):
-        saved[Path(fname).name] = self
-        return real(self, fname, *args, **kwargs)
-
-    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
-    return saved
-
 
 ROWS = [{"version": 0, "model": "baseline", "rms_fit_um": 22.2, "rms_heldout_um": 23.0},
         {"version": 1, "model": "baseline + joint 2 backlash", "rms_fit_um": 20.3,
