@@ -1,3 +1,5 @@
+"""The diagnosis pictures: history from the nominal model with a noise floor, residuals
+against joint torque with a legend, and the CSV behind them."""
 
 import numpy as np
 import pytest
