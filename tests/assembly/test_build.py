@@ -15,7 +15,8 @@ def test_region_order_demo(demo_robot):
     assert link_regions(demo_robot, 6, tcp="rigid") == ("joint_6",)
 
 
-def test_build_and_cache(box_robot):
+def test_build_and_cache(box_robot, tmp_path, monkeypatch):
+    monkeypatch.setenv("FLEXARM_CACHE", str(tmp_path))  # empty, even when the session's is kept
     msgs = []
     opts = BuildOptions("cb", 4)
     first = build_robot(box_robot, opts, mesher=box_mesher, progress=msgs.append)

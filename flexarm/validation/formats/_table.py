@@ -17,7 +17,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ...fe.errors import ReadError
 from ...fe.files import atomic_path
 from ...fe.typing import IntArray, PathType
 from ..measurements import DIRECTIONS
@@ -29,6 +28,7 @@ from ..units import (
     split_column,
     unit_factor,
 )
+from ._lines import MeasurementFileError, column_texts, fields, records
 
 __all__ = ["MeasurementFileError", "Field", "Schema", "Table", "read_table", "write_table",
            "label_problem", "joints", "vector"]
@@ -40,25 +40,6 @@ PLAUSIBLE = {"length": 100.0, "force": 1e7, "moment": 1e7, "angle": 4 * np.pi,
              "frequency": 1e6}
 _INT = re.compile(r"[+-]?[0-9]+")
 _REAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-
-
-class MeasurementFileError(ReadError):
-    """A measurement file is malformed; knows where.
-
-    Attributes
-    ----------
-    path : str
-        The file as given.
-    line : int or None
-        1-based line number in the file.
-    column : str or None
-        Column name as written in the header.
-    """
-
-    def __init__(self, message: str, path: str, line: int | None = None,
-                 column: str | None = None):
-        super().__init__(message)
-        self.path, self.line, self.column = path, line, column
 
 
 def label_problem(label: str) -> str | None:
@@ -315,35 +296,6 @@ def _cell_problem(kind: str, text: str) -> str | None:
     return None
 
 
-def _records(path: Path, source: str) -> tuple[list[int], list[str]]:
-    """Line numbers and stripped text of every non-comment, non-blank line."""
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise MeasurementFileError(f"{source}: not a UTF-8 text file ({exc.reason} at byte "
-                                   f"{exc.start})", source) from None
-    numbers, records, lines = [], [], text.splitlines()
-    del text
-    for number, line in enumerate(lines, start=1):
-        stripped = line.strip()
-        if stripped and not stripped.startswith("#"):
-            numbers.append(number)
-            records.append(stripped)
-    return numbers, records
-
-
-def _fields(record: str, number: int, source: str) -> list[str]:
-    """The stripped fields of one line (``"..."`` quotes a field holding a comma)."""
-    if '"' not in record:  # what the csv module would do, without its cost
-        return [f.strip() for f in record.split(",")]
-    try:
-        fields = next(csv.reader([record], skipinitialspace=True, strict=True))
-    except csv.Error as exc:
-        raise MeasurementFileError(f"{source}, line {number}: malformed CSV ({exc})",
-                                   source, number) from None
-    return [f.strip() for f in fields]
-
-
 def _header(names: list[str], line: int, source: str, vocabulary: dict[str, Field]):
     columns, unknown, seen = {}, [], {}
 
@@ -401,11 +353,11 @@ def read_table(path: PathType, vocabulary: dict[str, Field]) -> Table:
     """
     path = Path(path)
     source = str(path)
-    numbers, records = _records(path, source)
-    if not records:
+    numbers, lines = records(path, source)
+    if not lines:
         raise MeasurementFileError(f"{source}: no header row (the file is empty or only "
                                    "holds comments)", source)
-    header_line, names = numbers[0], _fields(records[0], numbers[0], source)
+    header_line, names = numbers[0], fields(lines[0], numbers[0], source)
     separator = next((c for c in ";\t" if len(names) == 1 and c in names[0]), None)
     if separator is not None:
         raise MeasurementFileError(
@@ -413,51 +365,13 @@ def read_table(path: PathType, vocabulary: dict[str, Field]) -> Table:
             f"flexarm reads comma-separated files with '.' decimals (export as CSV with ',' "
             f"separators)", source, header_line)
     columns, unknown = _header(names, header_line, source, vocabulary)
-    if len(records) == 1:
+    if len(lines) == 1:
         raise MeasurementFileError(f"{source}, line {header_line}: no data rows after the "
                                    "header", source, header_line)
-    del records[0], numbers[0]
-    cells = _column_texts(records, numbers, len(names), header_line, source)
+    del lines[0], numbers[0]
+    cells = column_texts(lines, numbers, len(names), header_line, source)
     return Table(source, header_line, tuple(names), columns, unknown, cells,
                  np.array(numbers, dtype=np.int64))
-
-
-#: Lines split at a time (their fields exist as Python strings only chunk by chunk).
-_CHUNK_ROWS = 65536
-#: A comma with the blanks around it (never a line break: lines are joined by them).
-_SEPARATOR = re.compile(r"[^\S\n]*,[^\S\n]*")
-
-
-def _column_texts(records: list[str], numbers: list[int], n: int, header_line: int,
-                  source: str) -> tuple[str, ...]:
-    """Each column's fields joined by newlines; a line with other than ``n`` fields raises.
-    ``records`` is emptied as it goes."""
-    def check(count: int, k: int) -> None:
-        if count != n:
-            hint = ("; decimal commas? write 1.5, not 1,5 (and quote a label holding a "
-                    "comma)" if count > n else "")
-            raise MeasurementFileError(
-                f"{source}, line {numbers[k]}: {count} fields, expected {n} as in the header "
-                f"(line {header_line}){hint}", source, numbers[k])
-
-    parts: list[list[str]] = [[] for _ in range(n)]
-    for start in range(0, len(records), _CHUNK_ROWS):
-        chunk = records[start:start + _CHUNK_ROWS]
-        block = "\n".join(chunk)
-        if '"' in block:  # quoted fields: the csv module, line by line
-            fields = []
-            for k, record in enumerate(chunk, start=start):
-                row = _fields(record, numbers[k], source)
-                check(len(row), k)
-                fields += row
-        else:  # split the whole chunk at once
-            for k, record in enumerate(chunk, start=start):
-                check(record.count(",") + 1, k)
-            fields = _SEPARATOR.sub(",", block).replace("\n", ",").split(",")
-        for j in range(n):
-            parts[j].append("\n".join(fields[j::n]))
-        records[start:start + len(chunk)] = [""] * len(chunk)  # done: free the line texts
-    return tuple("\n".join(p) for p in parts)
 
 
 def write_table(path: PathType, schema: Schema, values: dict[str, np.ndarray],
