@@ -12,7 +12,6 @@ Every error names the file, the key and the value.
 
 from __future__ import annotations
 
-import difflib
 import math
 import os
 import re
@@ -36,53 +35,11 @@ from ..description import (
 )
 from ..effects import Effect
 from ..joints import JointModel
+from . import toml_keys as tk
 
 __all__ = ["read", "write", "dumps", "FORMAT_VERSION"]
 
 FORMAT_VERSION = 1
-_MODEL_KEYS = {"torsion", "tilt", "tilt2", "radial", "axial", "damping_ratio", "rayleigh",
-               "placeholder"}
-_JOINT_KEYS = {"name", "parent", "child", "origin", "rpy_deg", "axis", "limits_deg",
-               "gear_ratio", "model", "emodel"}
-_LINK_KEYS = {"name", "mesh", "units", "material", "lumped", "regions"}
-_TOP_KEYS = {"format_version", "name", "model", "base", "tool", "poses", "wrist", "links",
-             "joints", "nonlinear"}
-_OPTION_KEYS = {"element_order", "mesh_size", "cb_modes", "mesher"}
-_BASE_KEYS = {"support", "stiffness", "damping_ratio"}
-_TOOL_KEYS = {"xyz", "rpy_deg", "link"}
-_WRIST_KEYS = {"coupling", "stiffness"}
-_LUMPED_KEYS = {"name", "mass", "position", "inertia"}
-_REGION_KEYS = {"center", "axis", "r_min", "r_max", "half_width", "coupling"}
-_MATERIAL_KEYS = {"E", "nu", "rho", "name"}
-
-
-def _check_keys(table: dict, allowed: set, where: str) -> None:
-    """A misspelt key is an error (a dropped one would silently change the model)."""
-    extra = sorted(set(table) - allowed)
-    if extra:
-        near = difflib.get_close_matches(extra[0], sorted(allowed), n=1, cutoff=0.6)
-        hint = f"did you mean '{near[0]}'?" if near else f"allowed: {sorted(allowed)}"
-        raise ValueError(f"{where}: unknown key '{extra[0]}' ({hint})")
-
-
-def _table(data: dict, key: str, where: str, allowed: set | None = None) -> dict:
-    """The table ``data[key]`` (empty when absent), its keys checked against ``allowed``."""
-    value = data.get(key, {})
-    if not isinstance(value, dict):
-        raise ValueError(f"{where}{key} must be a table, got {value!r}")
-    if allowed is not None:
-        _check_keys(value, allowed, f"{where}{key}")
-    return value
-
-
-def _tables(data: dict, key: str, where: str = "") -> list[dict]:
-    """The array of tables ``[[key]]`` (empty when absent)."""
-    value = data.get(key, [])
-    if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
-        raise ValueError(f"{where}{key} must be an array of tables ([[{key}]]), got {value!r}")
-    return value
-
-
 def _stiff(value, key: str) -> float:
     if isinstance(value, str):
         if value.strip().lower() != "rigid":
@@ -96,7 +53,7 @@ def _stiff(value, key: str) -> float:
 
 def _material(value, key: str) -> Material:
     if isinstance(value, dict):
-        _check_keys(value, _MATERIAL_KEYS, key)
+        tk.check_keys(value, tk.MATERIAL_KEYS, key)
         try:
             return Material(float(value["E"]), float(value["nu"]), float(value["rho"]),
                             str(value.get("name", "custom")))
@@ -123,7 +80,7 @@ def _link(d: dict, folder: Path) -> Link:
     key = f"links.{name or '?'}"
     if not name:
         raise ValueError("links: every link needs a name")
-    _check_keys(d, _LINK_KEYS, key)
+    tk.check_keys(d, tk.LINK_KEYS, key)
     mesh = d.get("mesh")
     mesh_path = None
     if mesh:
@@ -131,9 +88,9 @@ def _link(d: dict, folder: Path) -> Link:
         if not mesh_path.is_file():
             raise ValueError(f"{key}.mesh: file not found: '{mesh}' (looked in {mesh_path})")
     lumped = []
-    for m in _tables(d, "lumped", f"{key}."):
+    for m in tk.tables(d, "lumped", f"{key}."):
         mkey = f"{key}.lumped.{m.get('name', '?')}"
-        _check_keys(m, _LUMPED_KEYS, mkey)
+        tk.check_keys(m, tk.LUMPED_KEYS, mkey)
         if "mass" not in m:
             raise ValueError(f"{mkey}.mass is required [kg]")
         mass = float(m["mass"])
@@ -143,11 +100,11 @@ def _link(d: dict, folder: Path) -> Link:
                                  tuple(float(v) for v in m.get("position", (0, 0, 0))),
                                  _inertia(m.get("inertia", [0, 0, 0]), f"{mkey}.inertia")))
     regions = {}
-    for rname, r in _table(d, "regions", f"{key}.").items():
+    for rname, r in tk.table(d, "regions", f"{key}.").items():
         rkey = f"{key}.regions.{rname}"
         if not isinstance(r, dict):
             raise ValueError(f"{rkey} must be a table, got {r!r}")
-        _check_keys(r, _REGION_KEYS, rkey)
+        tk.check_keys(r, tk.REGION_KEYS, rkey)
         try:
             regions[rname] = Region(
                 tuple(float(v) for v in r["center"]), tuple(float(v) for v in r["axis"]),
@@ -164,7 +121,7 @@ def _joint(d: dict) -> Joint:
     key = f"joints.{name or '?'}"
     if not name:
         raise ValueError("joints: every joint needs a name")
-    _check_keys(d, _JOINT_KEYS, key)
+    tk.check_keys(d, tk.JOINT_KEYS, key)
     model = _joint_model(dict(d.get("model", {})), f"{key}.model")
     emodel = _joint_model(dict(d["emodel"]), f"{key}.emodel") if "emodel" in d else None
     lim = d.get("limits_deg", [-180.0, 180.0])
@@ -182,7 +139,7 @@ def _joint(d: dict) -> Joint:
 
 def _joint_model(m: dict, key: str) -> JointModel:
     """A ``[joints.model]`` (physical) or ``[joints.emodel]`` (equivalent) table."""
-    _check_keys(m, _MODEL_KEYS, key)
+    tk.check_keys(m, tk.MODEL_KEYS, key)
     if "torsion" not in m:
         raise ValueError(f"{key}.torsion is required [N m/rad]")
     placeholder = m.get("placeholder", False)
@@ -218,7 +175,7 @@ def _nonlinear_effects(table: dict, joint_names: list[str]) -> tuple[Effect, ...
             raise ValueError(f"{where}: no such joint (have {joint_names})")
         if not isinstance(d, dict):
             raise ValueError(f"{where} must be a table, got {d!r}")
-        _check_keys(d, allowed, where)
+        tk.check_keys(d, allowed, where)
         for kind, keys in _NONLINEAR_KEYS.items():
             if keys[0][0] not in d:
                 continue
@@ -245,8 +202,8 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
     if version != FORMAT_VERSION:
         raise ValueError(f"format_version: cannot read version {version} "
                          f"(this flexarm reads {FORMAT_VERSION})")
-    _check_keys(data, _TOP_KEYS, "top level")
-    b = _table(data, "base", "", _BASE_KEYS)
+    tk.check_keys(data, tk.TOP_KEYS, "top level")
+    b = tk.table(data, "base", "", tk.BASE_KEYS)
     kind = str(b.get("support", "clamped"))
     Kb = None
     if "stiffness" in b:
@@ -255,18 +212,18 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
         if np.any(np.diag(Kb) < 0):
             raise ValueError(f"base.stiffness: negative stiffness {np.diag(Kb).min():g}")
         Kb = tuple(map(tuple, Kb.tolist()))
-    t = _table(data, "tool", "", _TOOL_KEYS)
-    opts = _table(data, "model", "", _OPTION_KEYS)
-    w = _table(data, "wrist", "", _WRIST_KEYS)
-    poses = {k: _angles(v, f"poses.{k}") for k, v in _table(data, "poses", "").items()}
-    joints = _tables(data, "joints")
+    t = tk.table(data, "tool", "", tk.TOOL_KEYS)
+    opts = tk.table(data, "model", "", tk.OPTION_KEYS)
+    w = tk.table(data, "wrist", "", tk.WRIST_KEYS)
+    poses = {k: _angles(v, f"poses.{k}") for k, v in tk.table(data, "poses", "").items()}
+    joints = tk.tables(data, "joints")
     joint_names = [str(d.get("name", "")) for d in joints]
     twice = [n for i, n in enumerate(joint_names) if n in joint_names[:i]]
     if twice:  # before [nonlinear] is matched to the joints by name
         raise ValueError(f"joints: duplicate name '{twice[0]}' (names must be unique)")
     return Robot(
         name=str(data.get("name", "robot")),
-        links=tuple(_link(d, folder) for d in _tables(data, "links")),
+        links=tuple(_link(d, folder) for d in tk.tables(data, "links")),
         joints=tuple(_joint(d) for d in joints),
         base=BaseSupport(kind, Kb, float(b.get("damping_ratio", 0.02))),
         tool=Tool(tuple(float(v) for v in t.get("xyz", (0, 0, 0))),
@@ -279,7 +236,7 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
         wrist_coupling=tuple(map(tuple, w["coupling"])) if "coupling" in w else None,
         wrist_stiffness=tuple(map(tuple, w["stiffness"])) if "stiffness" in w else None,
         source=source,
-        effects=_nonlinear_effects(_table(data, "nonlinear", ""), joint_names),
+        effects=_nonlinear_effects(tk.table(data, "nonlinear", ""), joint_names),
     )
 
 
