@@ -43,7 +43,7 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
         RMS) is drawn as a line.
     """
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(7, 3.6))
+    fig, ax = plt.subplots(figsize=(8, 3.6))
     labels, fit, held = [], [], []
     if nominal_rms is not None:
         labels.append("nominal")
@@ -53,12 +53,13 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
     fit += [r["rms_fit_um"] for r in rows]
     held += [r["rms_heldout_um"] for r in rows]
     x = np.arange(len(labels))
-    ax.bar(x - 0.2, fit, 0.4, label="fitted series (nominal: all series)")
+    ax.bar(x - 0.2, fit, 0.4, label="fitted series" + (" (nominal: all series)"
+                                                       if nominal_rms is not None else ""))
     ax.bar(x + 0.2, held, 0.4, label="held-out series")
     if sigma is not None:
         floor = NOISE_FLOOR_FACTOR * sigma * 1e6
         ax.axhline(floor, color="k", ls="--", lw=1,
-                   label=f"noise floor: a perfect model's RMS, √2·σ = {floor:.1f} µm")
+                   label=f"noise floor √2·σ = {floor:.1f} µm\n(a perfect model's RMS)")
     ax.set_xticks(x, labels)
     ax.set_xlabel("model version")
     ax.set_ylabel("RMS error [µm]")
@@ -69,11 +70,12 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
         ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
         ax.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
         ax.set_ylabel("RMS error [µm] (log scale)")
-    ax.legend(fontsize=7)
+    # beside the axes: inside, it would cover the bars that sit near the noise floor
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     steps = [r["model"].split(" + ")[-1] for r in rows]
     ax.set_title("static error per model version: " + " -> ".join(
         (["nominal"] if nominal_rms is not None else []) + steps), fontsize=8)
-    return save_figure(fig, path, dpi=90)
+    return save_figure(fig, path, dpi=90, bbox_inches="tight")
 
 
 def torque_joints(tau: FloatArray) -> np.ndarray:
@@ -109,8 +111,9 @@ def plot_residual_vs_torque(path, tau: FloatArray, residual: FloatArray,
     axes[0, 0].set_ylabel("residual (measured - model) [µm]", fontsize=7)
     axes[0, 0].legend(fontsize=6)
     left_out = sorted(set(range(np.shape(tau)[1])) - set(joints.tolist()))
-    note = (f" (joints {', '.join(str(j + 1) for j in left_out)} carry no torque: "
-            "not shown)" if left_out else "")
+    names = ", ".join(str(j + 1) for j in left_out)
+    note = (f" (joint{'s' if len(left_out) > 1 else ''} {names} "
+            f"carr{'y' if len(left_out) > 1 else 'ies'} no torque: not shown)" if left_out else "")
     fig.suptitle((title + ": " if title else "") + "residual vs joint torque" + note,
                  fontsize=8)
     return save_figure(fig, path, dpi=90)

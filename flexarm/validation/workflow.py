@@ -104,10 +104,14 @@ class DiagnosisRun:
         Steps, identifiability, accepted effects (SI parameters), notes.
     models : ValidationModels
         The robot, the diagnosed E-model and the flexible model (if any).
+    sigma : float or None
+        The stated tracker noise [m] (mean over the readings): the noise floor of the
+        history picture.
     """
 
     diagnosis: Diagnosis
     models: ValidationModels
+    sigma: float | None = None
 
     def text(self) -> str:
         """The diagnosis as ``diagnose`` prints it."""
@@ -122,7 +126,7 @@ class DiagnosisRun:
     def write_history(self, folder: PathType) -> list[Path]:
         """``history.csv``, ``history.json`` and ``history.png`` of the model versions
         (:func:`~.history.write_history`)."""
-        return write_history(folder, self.diagnosis)
+        return write_history(folder, self.diagnosis, sigma=self.sigma)
 
     def write_robot(self, path: PathType, force: bool = False) -> Path:
         """:meth:`updated_robot` as a robot file (``.toml``), atomically.
@@ -175,4 +179,5 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
     models = validation_models(robot, options, progress)
     dg = diagnose(models.arm, data, noise_um * 1e-6, noise_model, poses=robot.poses,
                   modal=modal, flexible=models.flexible, freq_noise=freq_noise_pct / 100)
-    return DiagnosisRun(dg, models)
+    sigma = data.sigma if getattr(data, "sigma", None) is not None else None
+    return DiagnosisRun(dg, models, noise_um * 1e-6 if sigma is None else float(np.mean(sigma)))

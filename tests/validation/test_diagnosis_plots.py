@@ -41,7 +41,7 @@ def test_residual_plot_skips_joints_without_torque(tmp_path, figures):
     res = rng.normal(0, 20e-6, (40, 3))
     plot_residual_vs_torque(tmp_path / "r.png", tau, res)
     fig = figures["r.png"]
-    assert len(fig.axes) == 2 and "joints 3 carry no torque" in fig._suptitle.get_text()
+    assert len(fig.axes) == 2 and "joint 3 carries no torque" in fig._suptitle.get_text()
     assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == [
         "residual x", "residual y", "residual z"]
     np.testing.assert_allclose(fig.axes[1].get_lines()[2].get_ydata(), res[:, 2] * 1e6)
