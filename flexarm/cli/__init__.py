@@ -20,14 +20,26 @@ import os
 import sys
 import warnings
 
-from . import arm, contact, demo, export, flexible, lab_data, part, validation  # noqa: F401
+from . import (  # noqa: F401
+    arm,
+    contact,
+    damping,
+    demo,
+    export,
+    flexible,
+    lab_data,
+    part,
+    plan,
+    validation,
+)
 from ._common import COMMANDS, set_quiet
 
 __all__ = ["main", "COMMANDS"]
 
 
 #: Command groups in the order ``flexarm --help`` lists them (the main job first).
-_GROUPS = ("demo", "part", "arm", "flexible", "contact", "validation", "lab_data", "export")
+_GROUPS = ("demo", "part", "arm", "flexible", "contact", "validation", "plan", "lab_data",
+           "damping", "export")
 
 
 def _group_rank(item) -> int:

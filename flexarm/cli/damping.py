@@ -1,0 +1,70 @@
+"""Damping in the model: ``fit-damping`` (joint damping from measured modal damping) and
+``check-damping`` (which joints miss damping)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ._common import command, out, wrote
+
+
+def _add_fit_damping(p: argparse.ArgumentParser) -> None:
+    p.add_argument("modal", help="modal data with damping ratios (CSV or universal file, e.g. "
+                                 "from 'flexarm ema')")
+    p.add_argument("--robot", default=None,
+                   help="robot TOML or URDF (default: the built-in IRB 4600-class demo arm)")
+    p.add_argument("-o", "--output", required=True,
+                   help="robot file (.toml) to write with the fitted joint damping; the "
+                        "measured vs fitted plot goes next to it (<stem>.damping.png)")
+    p.add_argument("--method", default="auto", choices=["auto", "constant", "rayleigh", "joints"],
+                   help="fit to write: one ratio for all joints, one Rayleigh law for all "
+                        "joints, one ratio per joint; auto = lowest AICc")
+    _add_max_hz(p)
+
+
+def _add_max_hz(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--max-hz", type=float, default=None,
+                   help="leave out modes above this frequency [Hz], e.g. the upper edge of "
+                        "the FRF band 'ema' identified them in (default: use every mode)")
+
+
+@command("fit-damping", "joint damping ratios (or a Rayleigh law) fitted to measured modal "
+         "damping across poses, written into a robot file", _add_fit_damping)
+def _run_fit_damping(args) -> int:
+    from ..robot.formats import write as write_robot
+    from ..validation.damping_fit import fit_damping
+
+    output = Path(args.output)
+    if output.suffix.lower() != ".toml":
+        raise ValueError(f"--output {output}: the robot file must be a .toml")
+    res = fit_damping(args.modal, args.robot, args.method, max_hz=args.max_hz)
+    out(res.text())
+    write_robot(output, res.robot)
+    wrote([output, res.plot(output.with_name(output.stem + ".damping.png"))])
+    return 0
+
+
+def _add_check_damping(p: argparse.ArgumentParser) -> None:
+    p.add_argument("modal", help="modal data with damping ratios (CSV or universal file)")
+    p.add_argument("--robot", default=None,
+                   help="robot TOML or URDF under test (default: the built-in demo arm)")
+    p.add_argument("--sigma-pct", type=float, default=5.0,
+                   help="relative scatter of an identified damping ratio [%%]")
+    p.add_argument("--alpha", type=float, default=0.01,
+                   help="chance of accepting a joint on damping-correct data (at most)")
+    _add_max_hz(p)
+
+
+@command("check-damping", "which joints miss damping: measured ratios that rise in the "
+         "modes one joint dominates, at every pose", _add_check_damping)
+def _run_check_damping(args) -> int:
+    from ..validation.damping_check import diagnose_damping
+
+    if not 0 < args.sigma_pct < 100:
+        raise ValueError(f"--sigma-pct {args.sigma_pct}: must lie in (0, 100)")
+    if not 0 < args.alpha < 1:
+        raise ValueError(f"--alpha {args.alpha}: must lie in (0, 1)")
+    out(diagnose_damping(args.modal, args.robot, args.sigma_pct / 100, args.alpha,
+                         max_hz=args.max_hz).text())
+    return 0
