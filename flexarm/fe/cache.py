@@ -35,8 +35,8 @@ from typing import Any
 
 from .files import atomic_path, digest, file_digest
 
-__all__ = ["LAYOUT_VERSION", "Codec", "JSON", "Cached", "cache_root", "cache_key", "cached",
-           "lookup", "library_versions"]
+__all__ = ["LAYOUT_VERSION", "Codec", "JSON", "BYTES", "Cached", "cache_root", "cache_key",
+           "cached", "lookup", "library_versions"]
 
 log = logging.getLogger(__name__)
 
@@ -68,6 +68,18 @@ def _load_json(path: Path):
 
 #: Plain JSON values (dicts, lists, numbers, strings).
 JSON = Codec(".json", _save_json, _load_json)
+
+
+def _save_bytes(path: Path, value: bytes) -> None:
+    path.write_bytes(value)
+
+
+def _load_bytes(path: Path) -> bytes:
+    return path.read_bytes()
+
+
+#: Raw file contents (a picture), stored as they are: ``bytes``.
+BYTES = Codec(".bin", _save_bytes, _load_bytes)
 
 
 @dataclass(frozen=True, eq=False)

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ..fe.errors import FlexarmError, MissingDependencyError
+from ..fe.picture_cache import cached_picture
 from .recovery import mode_shape
 from .superelement import Superelement
 from .tolerances import tol
@@ -47,13 +48,42 @@ def has_display() -> bool:
 _probe_lock = threading.Lock()
 
 
+#: Environment variables that decide which off-screen window works (with the versions of
+#: Python, PyVista and VTK and the machine they make the probe's cache key).
+_PROBE_ENV = ("DISPLAY", "WAYLAND_DISPLAY", "VTK_DEFAULT_OPENGL_WINDOW", "PYVISTA_OFF_SCREEN",
+              "LIBGL_ALWAYS_SOFTWARE", "MESA_GL_VERSION_OVERRIDE", "LD_LIBRARY_PATH")
+
+
+def probe_key() -> str:
+    """Cache key of this machine's probe result: the probe itself, host, interpreter,
+    PyVista and VTK versions and the display/GL environment variables
+    (:data:`_PROBE_ENV`)."""
+    import platform
+
+    from ..fe.cache import cache_key
+
+    return cache_key("render-probe", _PROBE, _WINDOWS, platform.node(), sys.executable,
+                     sys.version, tuple((k, os.environ.get(k)) for k in _PROBE_ENV),
+                     libraries=("pyvista", "vtk", "imageio"))
+
+
 @functools.lru_cache(maxsize=1)
 def _probed_backend() -> str:
     import importlib.util
 
+    from ..fe.cache import cached
+
     for mod in ("pyvista", "imageio"):
         if importlib.util.find_spec(mod) is None:
             raise MissingDependencyError(mod, "pictures")
+    # a subprocess render costs ~2 s; only a working answer is stored (a failure raises)
+    window = cached("render-probe", probe_key(), _probe_windows).value
+    os.environ["VTK_DEFAULT_OPENGL_WINDOW"] = window
+    return window
+
+
+def _probe_windows() -> str:
+    """The first window class that renders a sphere off-screen in a subprocess."""
     user = os.environ.get("VTK_DEFAULT_OPENGL_WINDOW")
     tried = []
     for window in ((user,) if user else ()) + _WINDOWS:
@@ -79,7 +109,9 @@ def render_backend() -> str:
 
     Sets ``VTK_DEFAULT_OPENGL_WINDOW`` for this process.  A user setting is probed
     first and kept if it works.  The answer is cached for the process
-    (``render_backend.cache_clear()`` forgets it).
+    (``render_backend.cache_clear()`` forgets it) and, per machine, in the on-disk
+    cache (kind ``render-probe``, keyed by :func:`probe_key`): delete that entry after
+    installing or removing a GL library.
     """
     with _probe_lock:
         return _probed_backend()
@@ -104,10 +136,14 @@ def prefetch_render_backend() -> None:
     threading.Thread(target=probe, name="flexarm-render-probe", daemon=True).start()
 
 
-def _surface(se: Superelement):
+def _require_surface(se: Superelement) -> None:
     if se.surface_points is None or se.T is None:
         raise FlexarmError("this superelement has no surface mesh or recovery matrix "
                            "(read it from HDF5 or NPZ, not from DMIG or Matrix Market)")
+
+
+def _surface(se: Superelement):
+    _require_surface(se)
     import pyvista as pv
 
     faces = np.column_stack([np.full(len(se.surface_faces), 3), se.surface_faces]).ravel()
@@ -130,6 +166,24 @@ def _picture_suffix(path, interactive: bool) -> str:
     if path is not None:
         render_backend()
     return suffix
+
+
+@functools.cache
+def _code_digest(*files: str) -> str:
+    from ..fe.files import file_digest
+
+    return "".join(file_digest(f) for f in (__file__, *files))
+
+
+def scene_key(path, *parts, code: tuple[str, ...] = ()) -> str:
+    """Picture-cache key of a PyVista scene written to ``path`` (its suffix counts):
+    ``parts`` is everything drawn (arrays by content), ``code`` the source files that
+    draw it (this module always: any edit of the drawing code redraws), plus the render
+    window class and the PyVista, VTK and imageio versions."""
+    from ..fe.picture_cache import picture_key
+
+    return picture_key("pyvista", Path(path).suffix.lower(), render_backend(),
+                       _code_digest(*code), *parts, libraries=("pyvista", "vtk", "imageio"))
 
 
 def save_picture(plotter, path, n_frames: int, move) -> Path:
@@ -166,31 +220,22 @@ def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
         Also open a window (only when :func:`has_display`).
     """
     _picture_suffix(path, interactive)
-    import pyvista as pv
-
-    surf = _surface(se)
+    _require_surface(se)
     us = np.asarray(u, dtype=float)[se.surface_nodes]
-    mag = np.linalg.norm(us, axis=1)
-    diag = float(np.linalg.norm(np.ptp(surf.points, axis=0)))
-    scale = amplitude * diag / max(float(mag.max()), np.finfo(float).tiny)
-    base = surf.points.copy()
-    moved = surf.copy()
-    moved.points = base + scale * us
-    moved["|u|"] = mag
     out = None
     if path is not None:
-        p = pv.Plotter(off_screen=True, window_size=window_size)
-        p.add_mesh(surf, style="wireframe", color="grey", opacity=0.35)
-        p.add_mesh(moved, scalars="|u|", cmap="viridis", show_scalar_bar=True)
-        p.add_title(title, font_size=12)
-        p.view_isometric()
-        p.camera.zoom(1.1)
-
-        def move(phase):
-            moved.points = base + phase * scale * us
-
-        out = save_picture(p, path, n_frames, move)
+        key = scene_key(path, "field", np.asarray(se.surface_points, dtype=float),
+                        np.asarray(se.surface_faces), us, title, amplitude, n_frames,
+                        tuple(window_size))
+        out = cached_picture(path, key, lambda target: _draw_field(
+            se, us, target, title, amplitude, n_frames, window_size))[0]
     if interactive:
+        import pyvista as pv
+
+        surf = _surface(se)
+        base, scale = surf.points.copy(), _field_scale(surf, us, amplitude)
+        moved = surf.copy()
+        moved["|u|"] = np.linalg.norm(us, axis=1)
         moved.points = base + scale * us
         q = pv.Plotter()
         q.add_mesh(surf, style="wireframe", color="grey", opacity=0.35)
@@ -198,6 +243,35 @@ def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
         q.add_title(title, font_size=12)
         q.show()
     return out
+
+
+def _field_scale(surf, us: np.ndarray, amplitude: float) -> float:
+    """Drawing scale of ``us``: its largest is ``amplitude`` of the bounding diagonal."""
+    diag = float(np.linalg.norm(np.ptp(surf.points, axis=0)))
+    return amplitude * diag / max(float(np.linalg.norm(us, axis=1).max()), np.finfo(float).tiny)
+
+
+def _draw_field(se: Superelement, us: np.ndarray, path, title: str, amplitude: float,
+                n_frames: int, window_size) -> Path:
+    """Draw the surface of ``se`` deformed by ``us`` (surface nodes) into ``path``."""
+    import pyvista as pv
+
+    surf = _surface(se)
+    base, scale = surf.points.copy(), _field_scale(surf, us, amplitude)
+    moved = surf.copy()
+    moved.points = base + scale * us
+    moved["|u|"] = np.linalg.norm(us, axis=1)
+    p = pv.Plotter(off_screen=True, window_size=window_size)
+    p.add_mesh(surf, style="wireframe", color="grey", opacity=0.35)
+    p.add_mesh(moved, scalars="|u|", cmap="viridis", show_scalar_bar=True)
+    p.add_title(title, font_size=12)
+    p.view_isometric()
+    p.camera.zoom(1.1)
+
+    def move(phase):
+        moved.points = base + phase * scale * us
+
+    return save_picture(p, path, n_frames, move)
 
 
 def render_mode(se: Superelement, mode: int, path=None, boundary: str | None = None,

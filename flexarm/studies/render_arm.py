@@ -29,9 +29,10 @@ from ..assembly.arm import Arm
 from ..assembly.build import LinkBuild
 from ..assembly.flexible import body_coordinates
 from ..assembly.system import ArmModel, SystemMatrices, rotation_blocks, system_matrices
+from ..fe.picture_cache import cached_picture
 from ..fe.typing import ArrayLike, FloatArray, IntArray
 from ..reduction.couplings import rigid_transport
-from ..reduction.render import _picture_suffix, save_picture
+from ..reduction.render import _picture_suffix, save_picture, scene_key
 from ..robot.description import Robot
 
 __all__ = ["LinkField", "TcpEllipsoid", "superelement_dofs", "link_fields", "mode_fields",
@@ -249,8 +250,6 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
         Also open a window (needs :func:`~flexarm.reduction.render.has_display`).
     """
     _picture_suffix(path, interactive)
-    import pyvista as pv
-
     live = [f for f in fields if len(f.points)]
     allp = np.vstack([f.points for f in live])
     diag = float(np.linalg.norm(np.ptp(allp, axis=0)))
@@ -266,6 +265,8 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
            "label_font_size": 12, "n_labels": 5, "fmt": "%.2f"}
 
     def scene(off_screen: bool):
+        import pyvista as pv
+
         p = pv.Plotter(off_screen=off_screen, window_size=window_size)
         moving = []
         for k, f in enumerate(live):
@@ -288,17 +289,33 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
         p.reset_camera()
         return p, moving
 
-    out = None
-    if path is not None:
+    def draw(target: Path) -> None:
         p, moving = scene(True)
 
         def move(phase):
             for m, points, u in moving:
                 m.points = points + phase * scale * u
 
-        out = save_picture(p, path, n_frames, move)
+        save_picture(p, target, n_frames, move)
+
+    out = None
+    if path is not None:
+        key = scene_key(path, "arm", title, amplitude, n_frames, tuple(window_size),
+                        *_drawn_arrays(live, ellipsoid), code=(__file__,))
+        out = cached_picture(path, key, draw)[0]
     if interactive:
         scene(False)[0].show()
+    return out
+
+
+def _drawn_arrays(fields: Sequence[LinkField], ellipsoid: TcpEllipsoid | None) -> list:
+    """Everything :func:`render_arm` draws, as names and arrays (the picture's key)."""
+    out: list = []
+    for f in fields:
+        out += [f.name, np.asarray(f.points, float), np.asarray(f.faces), np.asarray(f.u, float)]
+    if ellipsoid is not None:
+        out += [np.asarray(a, float) for a in (ellipsoid.C, ellipsoid.tcp, ellipsoid.flange,
+                                               ellipsoid.u)]
     return out
 
 

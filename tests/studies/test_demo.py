@@ -75,3 +75,27 @@ def test_in_order_run_joins_the_steps_in_index_order(tmp_path, monkeypatch):
     assert result.lines == ("## part", "## emodel", "## flexible", "## measurement")
     assert list(result.figures) == ["part_Hz", "emodel_Hz", "flexible_Hz", "measurement_Hz"]
     assert (tmp_path / "index.md").read_text() == result.index_text()
+
+
+#: Files that carry wall times (the accuracy study reports how long each variant took).
+_TIMED = ("index.md", "study/")
+
+
+@pytest.mark.slow
+def test_warm_demo_serves_identical_pictures_from_the_cache(tmp_path):
+    from flexarm.fe.cache import cache_root
+
+    run_demo(tmp_path / "a")
+    pictures = cache_root() / "pictures"
+    before = set(pictures.glob("*.bin"))
+    run_demo(tmp_path / "b")
+    new = set(pictures.glob("*.bin")) - before
+    files = sorted(p.relative_to(tmp_path / "a") for p in (tmp_path / "a").rglob("*")
+                   if p.is_file())
+    kept = [f for f in files if not str(f).startswith(_TIMED)]
+    assert sum(f.suffix in (".png", ".gif") for f in kept) >= 15
+    for f in kept:
+        assert (tmp_path / "a" / f).read_bytes() == (tmp_path / "b" / f).read_bytes(), f
+    # only the pictures of timed results were drawn again
+    timed = [f for f in files if str(f).startswith("study/") and f.suffix == ".png"]
+    assert len(new) <= len(timed)

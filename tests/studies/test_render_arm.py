@@ -129,7 +129,8 @@ def _image(path):
     return np.asarray(iio.imread(path))
 
 
-def test_mode_pictures(box_robot, cached_arm, tmp_path, gl):
+def test_mode_pictures(box_robot, cached_arm, tmp_path, gl, monkeypatch):
+    monkeypatch.setenv("FLEXARM_CACHE", str(tmp_path / "cache"))  # really drawn here
     q = box_robot.pose("P1")
     imgs = []
     for m in (1, 2):
@@ -300,3 +301,23 @@ def test_cli_show_arm_vtu(box_robot, cached_arm, tmp_path, monkeypatch):
     assert not (tmp_path / "e.vtu").exists()
     pv = pytest.importorskip("pyvista")
     assert pv.read(out).n_points == len(m.points)
+
+
+def test_arm_pictures_come_from_the_cache_until_what_they_show_changes(
+        box_robot, cached_arm, tmp_path, monkeypatch, gl):
+    import flexarm.studies.render_arm as module
+
+    monkeypatch.setenv("FLEXARM_CACHE", str(tmp_path / "cache"))
+    draws = []
+    real = module.save_picture
+    monkeypatch.setattr(module, "save_picture", lambda *a: (draws.append(a[1]), real(*a))[1])
+    q = box_robot.pose("P1")
+    a = render_arm_mode(cached_arm, q, 1, tmp_path / "a.png", window_size=SIZE)
+    b = render_arm_mode(cached_arm, q, 1, tmp_path / "b.png", window_size=SIZE)
+    assert len(draws) == 1 and a.read_bytes() == b.read_bytes()
+    render_arm_mode(cached_arm, q, 1, tmp_path / "c.png", window_size=SIZE, ellipsoid=True)
+    assert len(draws) == 2
+    q2 = np.array(q, dtype=float)
+    q2[1] += 1e-9  # a pose change far below a pixel is still another picture
+    render_arm_mode(cached_arm, q2, 1, tmp_path / "d.png", window_size=SIZE)
+    assert len(draws) == 3
