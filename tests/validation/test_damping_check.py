@@ -2,26 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 import pytest
 
 from flexarm.robot.demo_arm import load_demo_robot
 from flexarm.validation.damping_check import diagnose_damping
 from flexarm.validation.damping_fit import robot_with_damping
-from flexarm.validation.lab import run_lab
 
-
-def _shapes(robot, n_modes=8):
-    return run_lab(robot, poses="P1,P2,P3", loads="0:100:100", dirs="z", modal=True,
-                   n_modes=n_modes).shapes
-
-
-def _noisy(sh, seed, noise=0.03):
-    rng = np.random.default_rng(seed)
-    return replace(sh, damping_ratio=sh.damping_ratio * (1 + noise * rng.standard_normal(
-        len(sh.damping_ratio))))
+from .helpers import lab_shapes, noisy_damping
 
 
 @pytest.fixture(scope="module")
@@ -37,8 +25,8 @@ def test_missing_damper_is_found_in_19_of_20_seeds(base, joint):
     nominal = np.array([j.model.damping_ratio for j in base.joints])
     z = nominal.copy()
     z[joint] = 1.5 * nominal[joint]
-    sh = _shapes(robot_with_damping(base, z))
-    hits = [diagnose_damping(_noisy(sh, s), base, sigma_rel=0.03) for s in range(20)]
+    sh = lab_shapes(robot_with_damping(base, z), 8)
+    hits = [diagnose_damping(noisy_damping(sh, s), base, sigma_rel=0.03) for s in range(20)]
     assert sum(h.accepted == (joint,) for h in hits) >= 19
     ok = [h for h in hits if h.accepted == (joint,)]
     extra = np.array([h.extra[joint] for h in ok])
@@ -47,8 +35,8 @@ def test_missing_damper_is_found_in_19_of_20_seeds(base, joint):
 
 
 def test_nothing_is_accepted_on_damping_correct_data(base):
-    sh = _shapes(base)
-    hits = [diagnose_damping(_noisy(sh, s), base, sigma_rel=0.03) for s in range(20)]
+    sh = lab_shapes(base, 8)
+    hits = [diagnose_damping(noisy_damping(sh, s), base, sigma_rel=0.03) for s in range(20)]
     assert sum(h.accepted == () for h in hits) >= 19
     assert "no joint misses damping" in hits[0].text()
     assert np.isnan(hits[0].gains[5])  # joint 6 unseen in 8 modes

@@ -12,19 +12,11 @@ from flexarm.robot.demo_arm import load_demo_robot
 from flexarm.robot.formats import read as read_robot
 from flexarm.robot.formats import write as write_robot
 from flexarm.validation.damping_fit import fit_damping, robot_with_damping
-from flexarm.validation.lab import run_lab
 from flexarm.validation.models import validation_models
 
+from .helpers import lab_damping
+
 TRUE = np.array([0.01, 0.03, 0.02, 0.05, 0.04, 0.06])
-
-
-def _lab_damping(robot, seed: int, noise: float = 0.03):
-    """12 modes at P1-P3 of ``robot``'s E-model, damping ratios with relative noise."""
-    sh = run_lab(robot, poses="P1,P2,P3", loads="0:100:100", dirs="z", modal=True,
-                 n_modes=12).shapes
-    rng = np.random.default_rng(seed)
-    return replace(sh, damping_ratio=sh.damping_ratio * (1 + noise * rng.standard_normal(
-        len(sh.damping_ratio))))
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +29,7 @@ def test_joint_dampers_are_recovered_within_10pct(base, seed):
     """Ratios 1-6 % per joint hidden in the lab, 3 % noise on each identified ratio:
     the per-joint fit wins the AICc and gets every joint within 10 % (20 seeds: worst
     5.1 %)."""
-    res = fit_damping(_lab_damping(robot_with_damping(base, TRUE), seed), base)
+    res = fit_damping(lab_damping(robot_with_damping(base, TRUE), seed), base)
     assert res.method == "joints"
     assert res.seen.all()
     np.testing.assert_allclose(res.joint_ratios["joints"], TRUE, rtol=0.10)
@@ -50,10 +42,10 @@ def test_joint_dampers_are_recovered_within_10pct(base, seed):
 def test_rayleigh_law_and_constant_ratio_are_picked_when_they_hold(base):
     """A Rayleigh law in every joint gives back its alpha and beta; one ratio for all
     joints is not over-fitted by the per-joint fit (AICc)."""
-    ray = fit_damping(_lab_damping(robot_with_damping(base, TRUE, (2.0, 4e-4)), 3), base)
+    ray = fit_damping(lab_damping(robot_with_damping(base, TRUE, (2.0, 4e-4)), 3), base)
     assert ray.method == "rayleigh"
     np.testing.assert_allclose(ray.rayleigh, (2.0, 4e-4), rtol=0.10)
-    const = fit_damping(_lab_damping(robot_with_damping(base, [0.025] * 6), 4), base)
+    const = fit_damping(lab_damping(robot_with_damping(base, [0.025] * 6), 4), base)
     assert const.method == "constant"
     np.testing.assert_allclose(const.joint_ratios["constant"], 0.025, rtol=0.03)
 
@@ -61,7 +53,7 @@ def test_rayleigh_law_and_constant_ratio_are_picked_when_they_hold(base):
 def test_fitted_robot_round_trips_through_toml(base, tmp_path):
     """The written robot file reads back with the fitted ratios, and its E-model's modal
     damping (an independent path through the assembly) is the fit's."""
-    res = fit_damping(_lab_damping(robot_with_damping(base, TRUE), 5), base)
+    res = fit_damping(lab_damping(robot_with_damping(base, TRUE), 5), base)
     path = write_robot(tmp_path / "damped.toml", res.robot)
     back = read_robot(path)
     for a, b in zip(back.joints, res.robot.joints, strict=True):
@@ -88,7 +80,7 @@ def test_rayleigh_robot_round_trips_through_toml(base, tmp_path):
 
 
 def test_bad_input_is_one_clear_error(base, tmp_path):
-    sh = _lab_damping(base, 0)
+    sh = lab_damping(base, 0)
     with pytest.raises(ValueError, match="no 'damping_ratio' column"):
         fit_damping(replace(sh, damping_ratio=None), base)
     with pytest.raises(ValueError, match="method must be auto or one of"):
