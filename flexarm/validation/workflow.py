@@ -20,6 +20,7 @@ from ..robot.formats import write as write_robot_file
 from .compare import Comparison, compare_static
 from .compare_dynamic import FrfComparison, ModalComparison, compare_frf, compare_modal
 from .compare_shapes import compare_with_models
+from .damping_check import DampingDiagnosis, diagnose_damping
 from .diagnose import Diagnosis, diagnose
 from .formats import read_measurements
 from .history import robot_with_effects, write_history
@@ -107,15 +108,19 @@ class DiagnosisRun:
     sigma : float or None
         The stated tracker noise [m] (mean over the readings): the noise floor of the
         history picture.
+    damping : DampingDiagnosis or None
+        Joints missing damping, judged by the modal data's damping ratios (when given).
     """
 
     diagnosis: Diagnosis
     models: ValidationModels
     sigma: float | None = None
+    damping: DampingDiagnosis | None = None
 
     def text(self) -> str:
-        """The diagnosis as ``diagnose`` prints it."""
-        return self.diagnosis.text()
+        """The diagnosis as ``diagnose`` prints it (then the damping check, if any)."""
+        text = self.diagnosis.text()
+        return text if self.damping is None else text + "\n" + self.damping.text()
 
     def updated_robot(self) -> Robot:
         """The robot with the final model's effects and fitted parameters
@@ -144,7 +149,7 @@ class DiagnosisRun:
 def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = None,
                   options: ValidationOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
                   noise_model: str = "shared", modal: ModalData | PathType | None = None,
-                  freq_noise_pct: float = 0.5,
+                  freq_noise_pct: float = 0.5, damping_noise_pct: float = 5.0,
                   progress: Callable[[str], None] | None = None) -> DiagnosisRun:
     """Diagnose which effects the E-model of ``robot`` misses in static ``data``
     (:func:`~.diagnose.diagnose`).
@@ -162,9 +167,12 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
     noise_model : {"shared", "independent"}
         Shared reference reading (GLS) or independent rows.
     modal : ModalData, path or None
-        Measured natural frequencies, joining every fit.
+        Measured natural frequencies, joining every fit; with damping ratios, also the
+        check for joints missing damping (:func:`~.damping_check.diagnose_damping`).
     freq_noise_pct : float
         Their relative noise [%].
+    damping_noise_pct : float
+        Relative scatter of an identified damping ratio [%].
     progress : callable (str) -> None, optional
         Gets a line per step of a flexible-model build.
     """
@@ -174,10 +182,20 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
                          "a [nonlinear] table")
     data = _read(data, robot)
     modal = None if modal is None else _read(modal, robot)
+    damping = _damping_check(modal, robot, options, damping_noise_pct)
     if modal is not None:
         options = replace(options, flexible=True)
     models = validation_models(robot, options, progress)
     dg = diagnose(models.arm, data, noise_um * 1e-6, noise_model, poses=robot.poses,
                   modal=modal, flexible=models.flexible, freq_noise=freq_noise_pct / 100)
     sigma = data.sigma if getattr(data, "sigma", None) is not None else None
-    return DiagnosisRun(dg, models, noise_um * 1e-6 if sigma is None else float(np.mean(sigma)))
+    return DiagnosisRun(dg, models, noise_um * 1e-6 if sigma is None else float(np.mean(sigma)),
+                        damping)
+
+
+def _damping_check(modal, robot: Robot, options: ValidationOptions, noise_pct: float):
+    """The missing-damper check of modal data that carry damping ratios, else None."""
+    ratios = None if modal is None else getattr(modal, "damping_ratio", None)
+    if ratios is None or not np.all(np.isfinite(ratios)) or not np.any(ratios > 0):
+        return None
+    return diagnose_damping(modal, robot, sigma_rel=noise_pct / 100, options=options)

@@ -8,6 +8,7 @@ import pytest
 from flexarm.robot.demo_arm import load_demo_robot
 from flexarm.validation.damping_check import diagnose_damping
 from flexarm.validation.damping_fit import robot_with_damping
+from flexarm.validation.lab import run_lab
 
 from .helpers import lab_shapes, noisy_damping
 
@@ -40,3 +41,21 @@ def test_nothing_is_accepted_on_damping_correct_data(base):
     assert sum(h.accepted == () for h in hits) >= 19
     assert "no joint misses damping" in hits[0].text()
     assert np.isnan(hits[0].gains[5])  # joint 6 unseen in 8 modes
+
+
+def test_diagnose_with_modal_damping_names_the_missing_damper(base):
+    """``diagnose --modal`` with damping ratios: a joint-3 damper at 1.5x the model's is
+    reported after the static diagnosis; without modal data there is no damping check."""
+    from flexarm.validation.workflow import run_diagnosis
+
+    nominal = np.array([j.model.damping_ratio for j in base.joints])
+    z = nominal.copy()
+    z[2] = 1.5 * nominal[2]
+    truth = robot_with_damping(base, z)
+    static = run_lab(truth, poses="P1,P2", loads="0:400:200", dirs="y,z", seed=1).data
+    run = run_diagnosis(static, base, modal=noisy_damping(lab_shapes(truth, 8), 1),
+                        damping_noise_pct=3.0)
+    assert run.damping is not None and run.damping.accepted == (2,)
+    assert "missing joint damping" in run.text()
+    plain = run_diagnosis(static, base)
+    assert plain.damping is None and "missing joint damping" not in plain.text()
