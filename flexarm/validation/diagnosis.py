@@ -254,11 +254,11 @@ def identifiability_lines(ident: Identifiability) -> list[str]:
 
 
 def step_lines(i: int, step: Step) -> list[str]:
-    """Model version ``i``: its fit (chi2_red, band, RMS [um]), a blank line before it,
+    """Model version ``i``: its fit (chi2_red, band, RMS [µm]), a blank line before it,
     the candidate table and the verdict on the refitted best candidate."""
     lines = [f"\nv{i} {step.label}: chi2_red {step.chi2_red:.3f} (band {step.band[0]:.3f}-"
-             f"{step.band[1]:.3f}), RMS fitted {step.rms_fit * 1e6:.1f} um, held-out "
-             f"{step.rms_heldout * 1e6:.1f} um"]
+             f"{step.band[1]:.3f}), RMS fitted {step.rms_fit * 1e6:.1f} µm, held-out "
+             f"{step.rms_heldout * 1e6:.1f} µm"]
     if step.candidates:
         lines.append(text_table(["candidate", "status", "dBIC", "unique", "norm", "detail"],
                                 [[c.label, c.status, f"{c.dbic:.1f}", f"{c.unique:.2f}",
@@ -283,7 +283,7 @@ def diagnosis_text(dg: Diagnosis) -> str:
       joint_1 torque changes sign in: P1_+x
       joint_2 torque changes sign in: no series
     <BLANKLINE>
-    v0 baseline: chi2_red 1.020 (band 0.800-1.200), RMS fitted 15.0 um, held-out 16.0 um
+    v0 baseline: chi2_red 1.020 (band 0.800-1.200), RMS fitted 15.0 µm, held-out 16.0 µm
     note: payload: untestable
     """
     lines = [dg.misfit.headline()] if dg.unexplained else []

@@ -1,7 +1,7 @@
 """The measurement workflows behind the ``compare`` and ``diagnose`` commands: one call
 from a measurement file and a robot to a result with ``text()`` and writers.
 
-Noise options keep the commands' units (tracker noise in um, frequency noise in %) so
+Noise options keep the commands' units (tracker noise in µm, frequency noise in %) so
 that a command passes its options through unchanged.  The virtual lab is
 :func:`~flexarm.validation.lab.run_lab`.
 """
@@ -59,7 +59,7 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
     options : ValidationOptions
         Models of :func:`~flexarm.validation.models.validation_models`.
     noise_um : float
-        Tracker noise [um] of static rows without a ``sigma`` column.
+        Tracker noise [µm] of static rows without a ``sigma`` column.
     freq_noise_pct : float
         Relative noise of measured natural frequencies [%].
     progress : callable (str) -> None, optional
@@ -163,7 +163,7 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
     options : ValidationOptions
         Models; with ``options.flexible`` (or ``modal``) link flexibility is a candidate.
     noise_um : float
-        Tracker noise [um] of rows without a ``sigma`` column.
+        Tracker noise [µm] of rows without a ``sigma`` column.
     noise_model : {"shared", "independent"}
         Shared reference reading (GLS) or independent rows.
     modal : ModalData, path or None

@@ -202,8 +202,8 @@ def test_1_backlash_joint2_found(demo, lab):
     assert "  joint_2 torque changes sign in: P2_+z" in text
     assert text.index("") < text.index(f"v0 baseline: chi2_red {step.chi2_red:.3f} (band "
                                        f"{step.band[0]:.3f}-{step.band[1]:.3f}), RMS fitted "
-                                       f"{step.rms_fit * 1e6:.1f} um, held-out "
-                                       f"{step.rms_heldout * 1e6:.1f} um")
+                                       f"{step.rms_fit * 1e6:.1f} µm, held-out "
+                                       f"{step.rms_heldout * 1e6:.1f} µm")
     assert text[-len(dg.notes):] == [f"note: {n}" for n in dg.notes]
 
 
