@@ -11,7 +11,7 @@ swap of two close modes is visible.  CoMAC over the pairs shows where the model 
 from __future__ import annotations
 
 import csv
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -82,6 +82,7 @@ class ShapeComparison:
 
     poses: tuple
     threshold: float = MAC_THRESHOLD
+    label: str = "model"
 
     def text(self) -> str:
         """Pairs per pose (measured and model mode, frequencies, MAC), unpaired modes,
@@ -140,7 +141,8 @@ class ShapeComparison:
                                                                 strict=True))
         for pc in self.poses:
             out.append(folder / f"mac_{pc.pose}.png")
-            plot_mac(out[-1], pc.mac, pc.f_meas, pc.f_model, f"MAC, pose {pc.pose}")
+            plot_mac(out[-1], pc.mac, pc.f_meas, pc.f_model,
+                     f"MAC, measured vs {self.label}, pose {pc.pose}")
             out.append(folder / f"automac_{pc.pose}.png")
             plot_mac(out[-1], pc.automac, pc.f_meas, pc.f_meas, f"AutoMAC, pose {pc.pose}",
                      "measured", "measured")
@@ -234,6 +236,8 @@ def compare_with_models(models, options, data: ShapeData,
     """:func:`compare_shapes` on the models of a validation run
     (:class:`~.models.ValidationModels`): the points table of ``data_path``
     (:func:`measurement_points`) and the builds of :func:`shape_builds`."""
-    return compare_shapes(models.arm, data, measurement_points(data_path, models.robot),
-                          models.effects_with_links(), models.flexible,
-                          shape_builds(models, options))
+    label = {"emodel": "E-model", "guyan": "Guyan", "cb": "CB"}.get(options.model, "model")
+    cmp = compare_shapes(models.arm, data, measurement_points(data_path, models.robot),
+                         models.effects_with_links(), models.flexible,
+                         shape_builds(models, options))
+    return replace(cmp, label=label)
