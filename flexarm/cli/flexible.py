@@ -40,9 +40,10 @@ def _run_build(args) -> int:
 # --- compare-models --------------------------------------------------------------------
 def _add_compare_models(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
-    p.add_argument("--poses", default="P1,P2,P3",
+    p.add_argument("--poses", default=None,
                    help="pose names, comma-separated (P1,P2,P3), or poses in degrees "
-                        "separated by ';' (\"0,52,-19,12,-15,-11;home\")")
+                        "separated by ';' (\"0,52,-19,12,-15,-11;home\") (default: P1,P2,P3, "
+                        "else the robot's named poses)")
     add_flexible_args(p)
     p.add_argument("--no-full-fe", action="store_true", help="skip the full-FE reference")
     p.add_argument("-o", "--output", default="flexarm-compare", help="folder for CSV and PNG")
@@ -54,8 +55,14 @@ def _run_compare_models(args) -> int:
     from ..robot import pose_from_string
     from ..studies.compare_models import compare_models
 
-    poses = [t.strip() for t in args.poses.split(";")] if ";" in args.poses else names(args.poses)
     robot = robot_from(args)
+    if args.poses is None:  # an imported robot has no P1..P3
+        poses = ([p for p in ("P1", "P2", "P3") if p in robot.poses] or list(robot.poses)
+                 or [",".join("0" * len(robot.joints))])
+    elif ";" in args.poses:
+        poses = [t.strip() for t in args.poses.split(";") if t.strip()]
+    else:
+        poses = names(args.poses)
     for pose in poses:  # a bad pose fails before any link is meshed
         try:
             pose_from_string(robot, pose)
@@ -72,7 +79,8 @@ def _run_compare_models(args) -> int:
 # --- study -----------------------------------------------------------------------------
 def _add_study(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
-    p.add_argument("--pose", default="P1", help="pose name or 'q1,...,qn' in degrees")
+    p.add_argument("--pose", default=None, help="pose name or 'q1,...,qn' in degrees (default: "
+                   "P1, else the robot's first named pose, else zeros)")
     p.add_argument("--preset", default="full", choices=["small", "full"],
                    help="named sweep (explicit --sizes/--modes/--couplings override it)")
     p.add_argument("--sizes", default=None,
@@ -88,7 +96,9 @@ def _add_study(p: argparse.ArgumentParser) -> None:
 def _run_study(args) -> int:
     from ..studies.arm_study import run_study
 
-    res = run_study(robot_from(args), args.pose,
+    robot = robot_from(args)
+    pose_from(robot, args)  # the default pose, and a bad one fails before any meshing
+    res = run_study(robot, args.pose,
                     sizes=floats(args.sizes, "--sizes") if args.sizes else None,
                     modes=ints(args.modes, "--modes") if args.modes else None,
                     couplings=names(args.couplings) if args.couplings else None,

@@ -156,3 +156,13 @@ def test_map_cb_softer_than_rigid_links_everywhere(arm, tmp_path):
     assert t["q2_deg"] == pytest.approx(a.ravel()) and t["q3_deg"] == pytest.approx(b.ravel())
     assert np.all(t["f1_Hz"] <= m.freq_hz.ravel() * (1 + 1e-8))  # CSV: 10 digits
     assert np.all(t[kyy] * 1e3 <= m.stiffness[..., 1].ravel() * (1 + 1e-8))
+
+
+def test_compare_models_defaults_to_the_robots_named_poses(arm, tmp_path):
+    """P1..P3 on the demo arm; an imported robot has only its own ('home')."""
+    opts, robot = arm[0], arm[3]
+    text = run(["compare-models", *opts, "--no-full-fe", "-o", str(tmp_path)])
+    expected = [p for p in ("P1", "P2", "P3") if p in robot.poses] or list(robot.poses)
+    table = (tmp_path / "model_comparison.csv").read_text()
+    assert all(f"\n{p}," in table for p in expected), table[:200]
+    assert text.strip()
