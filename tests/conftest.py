@@ -181,3 +181,15 @@ def figures(monkeypatch):
 
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
     return saved
+
+
+@pytest.fixture(scope="session")
+def gl():
+    """The off-screen render backend (PyVista); skips, with the reason, where there is none."""
+    from flexarm.fe.errors import FlexarmError, MissingDependencyError
+    from flexarm.reduction.render import render_backend
+
+    try:
+        return render_backend()
+    except (FlexarmError, MissingDependencyError) as exc:
+        pytest.skip(f"no off-screen rendering here: {exc}")

@@ -58,17 +58,6 @@ def cached_arm(box_robot):
                builds)
 
 
-@pytest.fixture(scope="module")
-def gl():
-    from flexarm.fe.errors import FlexarmError, MissingDependencyError
-    from flexarm.reduction.render import render_backend
-
-    try:
-        return render_backend()
-    except (FlexarmError, MissingDependencyError) as exc:
-        pytest.skip(f"no off-screen rendering here: {exc}")
-
-
 def test_recovery_matches_interface_dofs(box_robot, exact_arm):
     """Seat nodes of the recovered field move rigidly with their interface DOFs, and the
     TCP seat carries the assembled TCP motion (1e-10)."""

@@ -28,17 +28,6 @@ def result(robot):
     return show_regions(robot, mesh_size=H)
 
 
-@pytest.fixture(scope="module")
-def gl():
-    from flexarm.fe.errors import FlexarmError, MissingDependencyError
-    from flexarm.reduction.render import render_backend
-
-    try:
-        return render_backend()
-    except (FlexarmError, MissingDependencyError) as exc:
-        pytest.skip(f"no off-screen rendering here: {exc}")
-
-
 def test_every_detected_region_works_on_the_tet_mesh(robot, result):
     """What the build checks, on the pytetwild meshes at the size the seats were found
     for: every region holds non-collinear surface nodes and no node is in two."""
