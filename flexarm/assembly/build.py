@@ -195,10 +195,16 @@ def link_mesh(link: Link, mesh_size: float, order: int = 1, progress=None,
     """Tetrahedral mesh of the link's CAD [m], link frame (cached on disk).
 
     The same call as the E-model's mass properties, so both see the same solid;
-    ``mesher`` is the robot's ``model.mesher`` (``"tetwild"`` or ``"gmsh"``).
+    ``mesher`` is the robot's ``model.mesher`` (``"tetwild"`` or ``"gmsh"``).  A volume
+    mesh the link names for ``mesh_size`` is read instead
+    (:func:`~flexarm.robot.volume_meshes.pinned_mesh`).
     """
     from ..meshes import load_surface, tetrahedralizer
+    from ..robot.volume_meshes import pinned_mesh
 
+    pinned = pinned_mesh(link, mesh_size, order)
+    if pinned is not None:
+        return pinned
     if link.mesh is None:
         raise ValueError(f"links.{link.name}: no mesh to build a flexible link from")
     surface = load_surface(link.mesh, units=link.units)

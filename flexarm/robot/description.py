@@ -89,6 +89,9 @@ class Link:
 
     ``mesh`` is an absolute path (or None for a massless link); ``units`` the CAD
     length unit.  ``regions`` maps a joint name (or ``"tcp"``) to its seat region.
+    ``volume_meshes`` maps a tet edge length [m] to a volume-mesh file whose tetrahedra
+    are used at that size instead of meshing the CAD (a mesh made elsewhere, or pinned
+    so that every run sees the same elements; :mod:`flexarm.robot.volume_meshes`).
     """
 
     name: str
@@ -97,6 +100,7 @@ class Link:
     units: str = "m"
     lumped: tuple[LumpedMass, ...] = ()
     regions: dict = field(default_factory=dict, compare=False)
+    volume_meshes: dict = field(default_factory=dict, compare=False)
 
 
 @dataclass(frozen=True)
@@ -165,6 +169,9 @@ class Robot:
     and a parent listed earlier.  ``poses`` maps names to joint angles [rad].
     ``effects`` are the nonlinear joint laws (:class:`~flexarm.robot.effects.Effect` of
     kind backlash, hardening or hysteresis); linear analyses ignore them.
+    ``modal_damping`` maps a pose name to the modal damping ratios identified there,
+    ``(freq_hz, zeta)`` tuples (``fit-damping --method modal``); the FRF at that pose
+    uses them (:mod:`flexarm.validation.pose_damping`).
     """
 
     name: str
@@ -178,6 +185,7 @@ class Robot:
     wrist_stiffness: tuple | None = None
     source: Path | None = None
     effects: tuple = ()
+    modal_damping: dict = field(default_factory=dict, compare=False)
 
     def __post_init__(self) -> None:
         validate(self)
@@ -248,6 +256,7 @@ def validate(robot: Robot) -> None:
     _validate_base_and_wrist(robot)
     _validate_poses(robot)
     _validate_effects(robot)
+    _validate_modal_damping(robot)
 
 
 def _validate_unique(names: list[str], what: str) -> None:
@@ -350,6 +359,21 @@ def _validate_poses(robot: Robot) -> None:
             raise ValueError(f"poses.{pname}: {robot.joints[j].name} = {math.degrees(q[j]):g} "
                              f"deg outside limits [{math.degrees(lo[j]):g}, "
                              f"{math.degrees(hi[j]):g}] deg")
+
+
+def _validate_modal_damping(robot: Robot) -> None:
+    """``modal_damping``: pose name -> (frequencies [Hz], damping ratios [-]) identified
+    at that named pose, equally long, f > 0 and 0 <= zeta < 1."""
+    for pname, (freq, zeta) in robot.modal_damping.items():
+        where = f"modal_damping.{pname}"
+        if pname not in robot.poses:
+            raise ValueError(f"{where}: no pose '{pname}' in [poses]")
+        if len(freq) != len(zeta):
+            raise ValueError(f"{where}: {len(freq)} freq_hz but {len(zeta)} zeta")
+        if not all(f > 0 for f in freq):
+            raise ValueError(f"{where}.freq_hz must be > 0, got {list(freq)}")
+        if not all(0 <= z < 1 for z in zeta):
+            raise ValueError(f"{where}.zeta must lie in [0, 1), got {list(zeta)}")
 
 
 def _validate_effects(robot: Robot) -> None:

@@ -36,6 +36,7 @@ from ..description import (
 from ..effects import Effect
 from ..joints import JointModel
 from . import toml_keys as tk
+from .toml_modal_damping import modal_damping_from_table, modal_damping_table
 
 __all__ = ["read", "write", "dumps", "FORMAT_VERSION"]
 
@@ -113,7 +114,26 @@ def _link(d: dict, folder: Path) -> Link:
         except KeyError as exc:
             raise ValueError(f"{rkey}: missing key {exc}") from None
     return Link(name, mesh_path, _material(d.get("material", "steel"), f"{key}.material"),
-                str(d.get("units", "m")), tuple(lumped), regions)
+                str(d.get("units", "m")), tuple(lumped), regions,
+                _volume_meshes(tk.table(d, "volume_meshes", f"{key}."), folder,
+                               f"{key}.volume_meshes"))
+
+
+def _volume_meshes(table: dict, folder: Path, key: str) -> dict:
+    """``{"0.03" = "tets/base.vtu"}`` -> ``{0.03: Path}`` (edge length [m] -> file)."""
+    out = {}
+    for size, file in table.items():
+        try:
+            h = float(size)
+        except ValueError:
+            h = float("nan")
+        if not h > 0:
+            raise ValueError(f"{key}: key '{size}' must be a tet edge length in metres")
+        path = Path(file) if Path(file).is_absolute() else (folder / file).resolve()
+        if not path.is_file():
+            raise ValueError(f"{key}.'{size}': file not found: '{file}' (looked in {path})")
+        out[h] = path
+    return out
 
 
 def _joint(d: dict) -> Joint:
@@ -237,6 +257,7 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
         wrist_stiffness=tuple(map(tuple, w["stiffness"])) if "stiffness" in w else None,
         source=source,
         effects=_nonlinear_effects(tk.table(data, "nonlinear", ""), joint_names),
+        modal_damping=modal_damping_from_table(tk.table(data, "modal_damping", "")),
     )
 
 
@@ -304,6 +325,9 @@ def to_dict(robot: Robot, folder: Path) -> dict:
         if lk.lumped:
             d["lumped"] = [{"name": m.name, "mass": m.mass, "position": list(m.position),
                             "inertia": [list(r) for r in m.inertia]} for m in lk.lumped]
+        if lk.volume_meshes:
+            d["volume_meshes"] = {f"{h:g}": Path(os.path.relpath(f, folder)).as_posix()
+                                  for h, f in sorted(lk.volume_meshes.items())}
         if lk.regions:
             d["regions"] = {k: {"center": list(r.center), "axis": list(r.axis),
                                 "r_min": r.r_min, "r_max": r.r_max,
@@ -350,6 +374,8 @@ def to_dict(robot: Robot, folder: Path) -> dict:
     nonlinear = _nonlinear_table(robot)
     if nonlinear:
         out["nonlinear"] = nonlinear
+    if robot.modal_damping:
+        out["modal_damping"] = modal_damping_table(robot.modal_damping)
     return out
 
 

@@ -13,9 +13,9 @@ MODEL_KEYS = {"torsion", "tilt", "tilt2", "radial", "axial", "damping_ratio", "r
                "placeholder"}
 JOINT_KEYS = {"name", "parent", "child", "origin", "rpy_deg", "axis", "limits_deg",
                "gear_ratio", "model", "emodel"}
-LINK_KEYS = {"name", "mesh", "units", "material", "lumped", "regions"}
+LINK_KEYS = {"name", "mesh", "units", "material", "lumped", "regions", "volume_meshes"}
 TOP_KEYS = {"format_version", "name", "model", "base", "tool", "poses", "wrist", "links",
-             "joints", "nonlinear"}
+             "joints", "nonlinear", "modal_damping"}
 OPTION_KEYS = {"element_order", "mesh_size", "cb_modes", "mesher"}
 BASE_KEYS = {"support", "stiffness", "damping_ratio"}
 TOOL_KEYS = {"xyz", "rpy_deg", "link"}

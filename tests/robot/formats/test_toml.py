@@ -192,7 +192,7 @@ def test_optional_tables_are_left_out():
      "links.l1.regions.j1: missing key 'r_max'"),
     (lambda d: d["links"][2].update(colour="red"),
      "links.l2: unknown key 'colour' (allowed: ['lumped', 'material', 'mesh', 'name', "
-     "'regions', 'units'])"),
+     "'regions', 'units', 'volume_meshes'])"),
     (lambda d: d["joints"][1]["model"].update(tilt="stiff"),
      "joints.j2.model.tilt must be a number or \"rigid\", got 'stiff'"),
     (lambda d: d["joints"][0]["emodel"].pop("torsion"),
@@ -206,7 +206,7 @@ def test_optional_tables_are_left_out():
     (lambda d: d.update(tol=d.pop("tool")), "top level: unknown key 'tol' (did you mean 'tool'?)"),
     (lambda d: d.update(robot_name="x"),
      "top level: unknown key 'robot_name' (allowed: ['base', 'format_version', 'joints', "
-     "'links', 'model', 'name', 'nonlinear', 'poses', 'tool', 'wrist'])"),
+     "'links', 'modal_damping', 'model', 'name', 'nonlinear', 'poses', 'tool', 'wrist'])"),
     (lambda d: d["wrist"].update(couplng=d["wrist"].pop("coupling")),
      "wrist: unknown key 'couplng' (did you mean 'coupling'?)"),
     (lambda d: d["model"].update(mesh_siz=0.01), "model: unknown key 'mesh_siz' (did you mean "

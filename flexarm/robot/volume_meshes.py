@@ -1,0 +1,104 @@
+"""A link's volume meshes given as files: tetrahedra read instead of meshed.
+
+A link may name, per tet edge length, a volume-mesh file (``.vtu``, ``.msh``, ``.vtk``
+or flexarm ``.npz``, read by :func:`~flexarm.meshes.volume_io.read_volume_mesh`) in
+metres and in the link frame::
+
+    [[links]]
+    name = "base"
+    mesh = "meshes/base.stl"
+    volume_meshes = { "0.03" = "tets/base_30mm.vtu" }
+
+Every analysis that meshes the link at that edge length (builds, full-FE references,
+mass properties, studies) then uses those elements.  Two uses: a mesh made in another
+pre-processor, and *pinned* meshes: fTetWild does not give the same tetrahedra twice,
+so a shipped robot whose figures must reproduce to the printed digits (the demo arm)
+pins the meshes it was published with.  A Tet4 file serves ``element_order = 2`` by
+adding straight-edge mid-side nodes.
+
+A file that is not a mesh of the link's CAD is refused: its volume must be within
+:data:`VOLUME_TOLERANCE` of the solid the CAD encloses.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from pathlib import Path
+
+from ..fe.mesh import TetMesh
+from .description import Link
+
+__all__ = ["VOLUME_TOLERANCE", "pinned_mesh", "pinned_size"]
+
+#: Largest relative difference between a volume mesh's volume and its CAD's [-]:
+#: fTetWild's envelope and Gmsh's chords stay well inside 2 %; a wrong file or wrong
+#: units is off by far more.
+VOLUME_TOLERANCE = 0.05
+
+
+def pinned_size(link: Link, mesh_size: float) -> float | None:
+    """The key of ``link.volume_meshes`` equal to ``mesh_size`` [m] (to 1e-9), or None.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> from flexarm.fe.material import material_from_string
+    >>> lk = Link("arm", None, material_from_string("steel"),
+    ...           volume_meshes={0.03: Path("arm_30mm.vtu")})
+    >>> pinned_size(lk, 0.030000000001), pinned_size(lk, 0.045)
+    (0.03, None)
+    """
+    return next((h for h in link.volume_meshes if math.isclose(h, mesh_size, rel_tol=1e-9)),
+                None)
+
+
+def pinned_mesh(link: Link, mesh_size: float, order: int = 1) -> TetMesh | None:
+    """The link's tetrahedra at ``mesh_size`` [m] read from its volume-mesh file, or None
+    when the link names no file for that size.
+
+    Parameters
+    ----------
+    link : Link
+    mesh_size : float
+        Tet edge length [m] the caller would mesh at.
+    order : {1, 2}
+        Element order wanted; a Tet4 file is promoted to Tet10.
+
+    Raises
+    ------
+    ValueError
+        The file holds Tet10 where Tet4 is wanted, or its volume is not the CAD's.
+    """
+    h = pinned_size(link, mesh_size)
+    if h is None:
+        return None
+    path = Path(link.volume_meshes[h])
+    stat = path.stat()
+    mesh = _read_checked(str(path), stat.st_mtime_ns, stat.st_size, link.name, f"{h:g}",
+                         str(link.mesh) if link.mesh else "", link.units)
+    if mesh.order == order:
+        return mesh
+    if mesh.order == 1 and order == 2:
+        return mesh.to_tet10()
+    raise ValueError(f"links.{link.name}.volume_meshes.'{h:g}': {path.name} holds Tet10 "
+                     f"elements, the model asks for element_order = {order}")
+
+
+@lru_cache(maxsize=64)
+def _read_checked(path: str, mtime_ns: int, n_bytes: int, name: str, key: str, cad: str,
+                  units: str) -> TetMesh:
+    """Read once per file version; check the volume against the CAD's."""
+    from ..meshes import load_surface
+    from ..meshes.volume_io import read_volume_mesh
+
+    mesh = read_volume_mesh(path)
+    if cad:
+        volume = float(mesh.volumes().sum())
+        solid = float(load_surface(cad, units=units).volume)
+        if abs(volume / solid - 1.0) > VOLUME_TOLERANCE:
+            raise ValueError(
+                f"links.{name}.volume_meshes.'{key}': {Path(path).name} holds {volume:.4g} m^3 "
+                f"of tetrahedra but the CAD encloses {solid:.4g} m^3: not a mesh of this link "
+                f"in metres and the link frame")
+    return mesh
