@@ -28,6 +28,7 @@ Outputs: ``arm_study.csv``, ``arm_study_error_vs_dof.png`` (log-log),
 from __future__ import annotations
 
 import csv
+import dataclasses
 import logging
 import time
 from collections.abc import Callable, Sequence
@@ -44,10 +45,11 @@ from ..fe.files import atomic_path
 from ..fe.typing import FloatArray
 from ..robot.description import Robot
 from .arm_study_plots import plot_error_vs_dof, plot_pareto
-from .arm_study_results import Reference, StudyResult, StudyRow
+from .arm_study_results import DiscretisationEstimate, Reference, StudyResult, StudyRow
 
 __all__ = ["PRESETS", "StudyRow", "Reference", "StudyResult", "parse_representation",
            "reference_result", "run_variant", "run_study", "verdict", "write_study",
+           "discretisation_estimate", "discretisation_text",
            "plot_error_vs_dof", "plot_pareto"]
 
 log = logging.getLogger(__name__)
@@ -135,6 +137,12 @@ def _build_seconds(builds: Sequence[LinkBuild]) -> float:
     return float(sum(lb.build_seconds for lb in builds))
 
 
+def _relative_signed(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``a / b - 1`` over the common length."""
+    n = min(len(a), len(b))
+    return np.asarray(a[:n]) / np.asarray(b[:n]) - 1.0
+
+
 def _relative(a: FloatArray, b: FloatArray) -> FloatArray:
     n = min(len(a), len(b))
     return np.abs(np.asarray(a[:n]) / np.asarray(b[:n]) - 1.0)
@@ -199,50 +207,59 @@ def verdict(rows: Sequence[StudyRow], levels=(0.01, 0.001),
     return "\n".join(lines)
 
 
-def discretisation_text(rows: Sequence[StudyRow], reference_coupling: str,
-                        order: int = 1) -> str:
-    """One line: the mesh (discretisation) error of the finest size, by Richardson
-    extrapolation of the two finest sizes.
+def discretisation_estimate(rows: Sequence[StudyRow], reference_coupling: str,
+                            order: int = 1, p_refined: Sequence[float] = (),
+                            h_fine: float | None = None) -> DiscretisationEstimate | None:
+    """The mesh error of the finest size (None when there is nothing to estimate it from).
 
-    The variant with the reference coupling and the most modes stands in for the full
-    model at each size (its reduction error is far smaller).  Frequencies of order-``k``
-    elements converge as ``h^(2k)``, so the finest size's error is about
-    ``|f(h1) - f(h2)| / ((h1 / h2)^(2k) - 1)``; the largest over the compared
-    frequencies, relative, is reported.  With one mesh size there is nothing to
-    extrapolate and the line says so: the reduction errors are then against the
-    finest full-FE model, not against the continuum.
+    Richardson from the two finest sizes: the variant with the reference coupling and
+    the most modes stands in for the full model at each size (its reduction error is far
+    smaller), and their FE DOF counts give the effective edge ratio.  ``p_refined`` are
+    the finest full FE's frequencies over those with one element order more, minus 1
+    (:class:`~flexarm.studies.arm_study_results.DiscretisationEstimate`).
 
     Examples
     --------
     >>> from flexarm.studies.arm_study_results import StudyRow
-    >>> row = lambda h, f: StudyRow(h, "rbe2", 10, "CB(10)", 90, 900, 0, 0, 0, 0, 0, 0,
-    ...                             freq_hz=(f,))
-    >>> discretisation_text([row(0.06, 10.3), row(0.03, 10.0)], "rbe2")
-    'discretisation error at 30 mm: about 1% (Richardson from 60 and 30 mm, Tet4 h^2, CB(10) rbe2)'
+    >>> row = lambda h, n, f: StudyRow(h, "rbe2", 10, "CB(10)", 90, n, 0, 0, 0, 0, 0, 0,
+    ...                                freq_hz=(f,))
+    >>> discretisation_estimate([row(0.06, 1000, 10.3), row(0.03, 8000, 10.0)], "rbe2").text()
+    'discretisation error at 30 mm (Tet4): Richardson from 60 and 30 mm (effective edge ratio \
+2.00, CB(10) rbe2) gives about 1%; the reduction errors above are against the full FE (Tet4) \
+at 30 mm'
     """
     ref = [r for r in rows if r.coupling == reference_coupling and len(r.freq_hz)]
     sizes = sorted({r.mesh_size for r in ref})
+    pref = tuple(float(v) for v in p_refined)
     if len(sizes) < 2:
-        return ("discretisation error: not estimated (one mesh size; the errors above are "
-                "against the full FE model at that size, give two sizes to estimate it)")
+        if not pref:
+            return None
+        return DiscretisationEstimate(h_fine if h_fine else sizes[0], order, p_refined=pref)
     h2, h1 = sizes[0], sizes[1]
     n = max(r.n_modes for r in ref)
     fine, coarse = (next(r for r in ref if r.mesh_size == h and r.n_modes == n)
                     for h in (h2, h1))
     k = min(len(fine.freq_hz), len(coarse.freq_hz))
     f2, f1 = np.asarray(fine.freq_hz[:k]), np.asarray(coarse.freq_hz[:k])
-    p = 2 * order
-    err = float(np.max(np.abs(f1 - f2) / ((h1 / h2) ** p - 1) / f2))
-    return (f"discretisation error at {h2 * 1e3:.0f} mm: about {100 * err:.2g}% (Richardson "
-            f"from {h1 * 1e3:.0f} and {h2 * 1e3:.0f} mm, Tet{4 if order == 1 else 10} "
-            f"h^{p}, {fine.label} {reference_coupling})")
+    ratio = (fine.n_fe_dofs / coarse.n_fe_dofs) ** (1 / 3) if coarse.n_fe_dofs else None
+    return DiscretisationEstimate(h2, order, fine.label, reference_coupling,
+                                  float(np.max(np.abs(f1 - f2) / f2)), ratio, h1, pref)
+
+
+def discretisation_text(estimate: DiscretisationEstimate | None) -> str:
+    """The verdict's line on the mesh error (what to do when it is not estimated)."""
+    if estimate is None:
+        return ("discretisation error: not estimated (one mesh size; the errors above are "
+                "against the full FE model at that size, give two sizes or tet10=True to "
+                "estimate it)")
+    return estimate.text()
 
 
 def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = None,
               modes: Sequence[int] | None = None, couplings: Sequence[str] | None = None,
               out_dir=None, progress: Callable[[str], None] | None = None, n_freq: int = 10,
               reference_coupling: str = "rbe2", mesher: Mesher | None = None,
-              cache: bool = True, preset: str = "full") -> StudyResult:
+              cache: bool = True, preset: str = "full", tet10: bool = False) -> StudyResult:
     """Sweep the variants against the full-FE reference at the finest size.
 
     Parameters
@@ -266,6 +283,10 @@ def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = No
         As for :func:`~flexarm.assembly.build.build_robot` (tests).
     preset : {"small", "full"}
         Named sweep (:data:`PRESETS`) that fills in what is not given.
+    tet10 : bool
+        Also solve the full FE with one element order more (Tet10 for a Tet4 robot) on
+        the finest mesh: a lower bound of the mesh error that needs no second size
+        (:func:`discretisation_estimate`).  Costs about six times the reference's DOF.
     """
     from ..robot.description import pose_from_string
 
@@ -282,6 +303,8 @@ def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = No
     sizes = sorted({float(s) for s in sizes}, reverse=True)
     for c in couplings:
         parse_representation(c)  # fail before any heavy work
+    if tet10 and robot.options.element_order != 1:
+        raise ValueError("tet10=True needs a Tet4 robot (element_order = 1)")
     ref = reference_result(robot, q, sizes[-1], reference_coupling, n_freq, mesher, cache, say)
     quiet = None if progress is None else (lambda m: log.info(m))
     rows = []
@@ -299,11 +322,21 @@ def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = No
                     f"f err {100 * r.freq_err_max:.3g}%, C err {100 * r.C_err_max:.3g}% "
                     f"(build {r.build_seconds:.1f} s, solve {r.solve_seconds * 1e3:.1f} ms)"
                     + eta_text(time.perf_counter() - t0, len(rows), n_var))
+    p_refined = ()
+    if tet10:
+        say(f"full FE with Tet10 elements at {sizes[-1] * 1e3:.0f} mm (mesh error)")
+        higher = dataclasses.replace(robot, options=dataclasses.replace(robot.options,
+                                                                        element_order=2))
+        ref10 = reference_result(higher, q, sizes[-1], reference_coupling, n_freq, mesher,
+                                 cache, say)
+        p_refined = tuple(_relative_signed(ref.freq_hz, ref10.freq_hz))
+    mesh_error = discretisation_estimate(rows, reference_coupling, order, p_refined,
+                                         sizes[-1])
     text = (verdict(rows, reference_coupling=reference_coupling) + "\n"
-            + discretisation_text(rows, reference_coupling, order))
-    result = StudyResult(tuple(rows), ref, pose, text)
+            + discretisation_text(mesh_error))
+    result = StudyResult(tuple(rows), ref, pose, text, discretisation=mesh_error)
     if out_dir is not None:
-        result = StudyResult(result.rows, ref, pose, text, write_study(result, out_dir))
+        result = dataclasses.replace(result, files=write_study(result, out_dir))
     return result
 
 
@@ -323,8 +356,9 @@ def eta_text(elapsed: float, done: int, total: int) -> str:
 
 
 def write_study(result: StudyResult, out_dir) -> tuple[Path, ...]:
-    """Write ``arm_study.csv``, the two PNGs and ``arm_study_verdict.txt`` to ``out_dir``
-    (all four or none: they are written aside and moved in together)."""
+    """Write ``arm_study.csv``, the two PNGs and ``arm_study_verdict.txt`` to ``out_dir``,
+    with ``arm_study_mesh_error.csv`` (per-mode Tet4 / Tet10 frequencies) after a Tet10
+    check (all or none: they are written aside and moved in together)."""
     from .demo_folder import atomic_folder
 
     final = Path(out_dir)
@@ -353,5 +387,14 @@ def _write_study(result: StudyResult, out: Path) -> tuple[Path, ...]:
         tmp.write_text(f"pose {result.pose}; reference: full FE {ref.n_dofs} DOF at "
                        f"{ref.mesh_size * 1e3:.0f} mm ({ref.coupling}), "
                        f"{ref.seconds:.1f} s\n{result.verdict}\n")
+    extra = ()
+    est = result.discretisation
+    if est is not None and est.p_refined:
+        extra = (out / "arm_study_mesh_error.csv",)
+        with atomic_path(extra[0]) as tmp, open(tmp, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["mode", "f_Hz", "f_higher_order_Hz", "rel_change"])
+            for i, (f, d) in enumerate(zip(ref.freq_hz, est.p_refined, strict=False), start=1):
+                w.writerow([i, f, f / (1 + d), d])
     return (path, plot_error_vs_dof(out / "arm_study_error_vs_dof.png", result),
-            plot_pareto(out / "arm_study_pareto.png", result), txt)
+            plot_pareto(out / "arm_study_pareto.png", result), txt, *extra)

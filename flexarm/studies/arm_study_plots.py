@@ -36,7 +36,7 @@ def _bottom_row(ax, rows, reps, attr: str, what: str, floor: float, ref_coupling
                       [max(getattr(r, attr), floor) for r in sel], "-", marker="s",
                       color=f"C{reps.index(rep)}", alpha=0.4 + 0.6 * (i % 4) / 3,
                       label=f"{representation_label(rep, ref_coupling)} {sel[0].label}")
-        ax.set(xlabel="link FE DOF (3 x nodes)", ylabel=f"largest relative error, {what}")
+        ax.set(xlabel="link FE DOF (3 x nodes)", ylabel=f"largest relative error [-], {what}")
         return
     for i, rep in enumerate(reps):
         sel = sorted((r for r in rows if r.coupling == rep), key=lambda r: r.n_modes)
@@ -44,7 +44,7 @@ def _bottom_row(ax, rows, reps, attr: str, what: str, floor: float, ref_coupling
                     "-", marker="s", color=f"C{i}", label=representation_label(rep, ref_coupling))
     ax.set(xlabel=f"CB modes per link (0 = Guyan; one mesh: "
                   f"{rows[0].n_fe_dofs} link FE DOF)",
-           ylabel=f"largest relative error, {what}")
+           ylabel=f"largest relative error [-], {what}")
 
 
 def plot_error_vs_dof(path, result: StudyResult) -> Path:
@@ -70,10 +70,12 @@ def plot_error_vs_dof(path, result: StudyResult) -> Path:
                               [max(getattr(r, attr), floor) for r in sel],
                               ["-", "--", "-.", ":"][j % 4], marker="o", color=f"C{i}",
                               label=f"{representation_label(rep, ref_c)}, {h * 1e3:.0f} mm")
-        ax.set(xlabel="reduced arm DOF", ylabel=f"largest relative error, {what} (floor 1e-9)")
+        ax.set(xlabel="reduced arm DOF",
+               ylabel=f"largest relative error [-], {what} (floor 1e-9)")
         _bottom_row(axes[1, col], rows, reps, attr, what, floor, ref_c)
     from matplotlib.ticker import NullFormatter
 
+    _mesh_error_lines(axes[:, 0], result)
     for ax in axes.ravel():
         ax.xaxis.set_minor_formatter(NullFormatter())  # narrow log ranges: no clutter
         ax.axhline(0.01, color="grey", lw=0.8, ls=":")
@@ -81,13 +83,36 @@ def plot_error_vs_dof(path, result: StudyResult) -> Path:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7, ncol=2)
     ref = result.reference
-    fig.suptitle(f"Arm accuracy at {result.pose} vs full FE ({ref.n_dofs} DOF, "
-                 f"{ref.mesh_size * 1e3:.0f} mm, {ref.coupling})")
+    fig.suptitle(f"Arm accuracy at {result.pose}: {_variants(rows)} vs full FE "
+                 f"({ref.n_dofs} DOF, {ref.mesh_size * 1e3:.0f} mm, {ref.coupling})")
     fig.tight_layout()
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=110, format="png")
     plt.close(fig)
     return Path(path)
+
+
+def _variants(rows) -> str:
+    """``"Guyan and CB(5, 10)"``: the reduced models the study compared."""
+    cb = sorted({r.n_modes for r in rows if r.n_modes})
+    names = (["Guyan"] if any(r.n_modes == 0 for r in rows) else []) + (
+        [f"CB({', '.join(map(str, cb))})"] if cb else [])
+    return " and ".join(names)
+
+
+def _mesh_error_lines(axes, result: StudyResult) -> None:
+    """The estimated discretisation error of the frequencies as horizontal lines: the
+    reduction errors below them are smaller than what the mesh already costs."""
+    est = result.discretisation
+    if est is None:
+        return
+    for ax in axes:
+        if est.lower is not None:
+            ax.axhline(est.lower, color="firebrick", lw=1.2, ls="--",
+                       label=f"mesh error, at least (vs Tet10, mode {est.worst_mode})")
+        if est.richardson is not None:
+            ax.axhline(est.richardson, color="darkorange", lw=1.2, ls="-.",
+                       label="mesh error, Richardson estimate")
 
 
 def plot_pareto(path, result: StudyResult) -> Path:
@@ -115,7 +140,8 @@ def plot_pareto(path, result: StudyResult) -> Path:
     ax.axhline(0.001, color="grey", lw=0.8, ls=":")
     ax.set(xscale="log", yscale="log", xlabel="build + solve time [s]",
            ylabel="max(frequency error, compliance error) [-]",
-           title=f"Arm study at {result.pose}: accuracy against cost")
+           title=f"Arm study at {result.pose}: {_variants(result.rows)} vs full FE, "
+                 "accuracy against cost")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -169,19 +169,53 @@ def test_single_mesh_plot_spreads_over_mode_counts(box_robot, tmp_path, monkeypa
 
 
 def test_verdict_estimates_the_discretisation_error(study):
-    """Richardson from the two sizes (Tet4: frequencies converge as h^2), on the most-modes
-    rbe2 variant; the one-size study says it cannot."""
-    from flexarm.studies.arm_study import discretisation_text
+    """Richardson from the two sizes (Tet4: frequencies converge as h^2) with the effective
+    edge ratio of the FE DOF counts, on the most-modes rbe2 variant; one size says it
+    cannot."""
+    from flexarm.studies.arm_study import discretisation_estimate, discretisation_text
 
     res, out, _ = study
     fine, coarse = (next(r for r in res.rows if r.coupling == "rbe2" and r.n_modes == 12
                          and r.mesh_size == h) for h in (0.05, 0.1))
     f2, f1 = np.array(fine.freq_hz), np.array(coarse.freq_hz)
-    est = np.max(np.abs(f1 - f2) / (2.0**2 - 1) / f2)
+    ratio = (fine.n_fe_dofs / coarse.n_fe_dofs) ** (1 / 3)
+    assert 1.4 < ratio < 2.0  # edges halved, but the thinnest boxes keep their 2 cells
+    est = res.discretisation
+    assert est.richardson == pytest.approx(np.max(np.abs(f1 - f2) / f2) / (ratio**2 - 1),
+                                           rel=1e-12)
     line = res.verdict.splitlines()[-1]
-    assert line.startswith("discretisation error at 50 mm: about ")
-    assert float(line.split("about ")[1].split("%")[0]) == pytest.approx(100 * est, rel=0.05)
-    assert "Richardson from 100 and 50 mm, Tet4 h^2, CB(12) rbe2" in line
-    assert line in (out / "arm_study_verdict.txt").read_text()
+    assert line == est.text() and line in (out / "arm_study_verdict.txt").read_text()
+    assert line.startswith(f"discretisation error at 50 mm (Tet4): Richardson from 100 and "
+                           f"50 mm (effective edge ratio {ratio:.2f}, CB(12) rbe2) gives about "
+                           f"{100 * est.richardson:.2g}%")
     one = [r for r in res.rows if r.mesh_size == 0.05]
-    assert discretisation_text(one, "rbe2").startswith("discretisation error: not estimated")
+    assert discretisation_estimate(one, "rbe2") is None
+    assert discretisation_text(None).startswith("discretisation error: not estimated")
+
+
+def test_tet10_gives_a_lower_bound_of_the_mesh_error(study, box_robot):
+    """Tet4 against Tet10 on the same grid bounds the Tet4 error from below (nested spaces,
+    min-max): checked against a Tet10 model on a twice finer grid, which is closer to
+    the exact frequencies than either."""
+    import dataclasses
+
+    from flexarm.studies.arm_study import reference_result
+
+    res, _, _ = study
+    q = box_robot.pose("P1")
+    one = run_study(box_robot, "P1", (0.05,), (12,), ("rbe2",), mesher=sized_box_mesher,
+                    tet10=True)
+    est = one.discretisation
+    assert est.richardson is None and len(est.p_refined) == len(res.reference.freq_hz)
+    assert min(est.p_refined) > -1e-9  # Tet4 frequencies above Tet10's on the same mesh
+    tet10 = dataclasses.replace(box_robot, options=dataclasses.replace(box_robot.options,
+                                                                       element_order=2))
+    finer = reference_result(tet10, q, 0.025, mesher=sized_box_mesher)
+    true = res.reference.freq_hz / finer.freq_hz - 1
+    assert np.all(true >= np.array(est.p_refined) - 1e-6)
+    assert est.lower >= 0.8 * true.max()  # ... and a close one: Tet10's own error is small
+    assert one.verdict.splitlines()[-1].startswith(
+        f"discretisation error at 50 mm (Tet4): at least {100 * est.lower:.2g}% (mode "
+        f"{est.worst_mode}; f1 {100 * est.p_refined[0]:.2g}%) against the full FE with Tet10")
+    with pytest.raises(ValueError, match="tet10=True needs a Tet4 robot"):
+        run_study(tet10, "P1", (0.05,), (12,), ("rbe2",), mesher=sized_box_mesher, tet10=True)
