@@ -123,6 +123,8 @@ def _write(report: ComparisonReport, out: Path, poses: list[str]) -> tuple[Path,
                ylabel=f"|H_yy| [{RECEPTANCE_UNIT}]")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
+    models = list(dict.fromkeys(r.model for r in curves))
+    fig.suptitle("TCP receptance: " + " vs ".join(models), fontsize=10)
     fig.tight_layout()
     png = out / "model_comparison_bode.png"
     fig.savefig(png, dpi=110)

@@ -50,7 +50,8 @@ def measurement_step(out: Path, progress: Progress) -> StepResult:
     before = compare_static(arm, data)
     write_report(out / "measurements_v0", before)
     dg = diagnose(arm, data, poses=robot.poses)
-    write_history(out / "diagnosis", dg, before.rms, float(before.problem.sigma.mean()))
+    write_history(out / "diagnosis", dg, before.rms, float(before.problem.sigma.mean()),
+                  f"{before.model} at {before.poses}")
     write(out / "robot_v1.toml", robot_with_effects(robot, arm, dg.final_effects))
     robot1 = read(out / "robot_v1.toml")
     after = compare_static(build_arm(robot1, ArmSpec(mass="surface")).model, data,

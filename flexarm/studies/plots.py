@@ -8,12 +8,10 @@ import numpy as np
 
 from ..fe.plotting import pyplot, save_figure
 from ..fe.typing import FloatArray
+from ..fe.units import RECEPTANCE_SCALE, RECEPTANCE_UNIT
 
-__all__ = ["plot_frf", "plot_mode_energy", "write_mode_energy"]
-
-#: Receptance and compliance in human-facing output (plots, tables): mm/kN (= µm/N);
-#: files keep SI (m/N).
-RECEPTANCE_UNIT, RECEPTANCE_SCALE = "mm/kN", 1e6
+__all__ = ["plot_frf", "plot_mode_energy", "write_mode_energy", "RECEPTANCE_UNIT",
+           "RECEPTANCE_SCALE"]
 
 def plot_frf(path, freq_hz: FloatArray, H: FloatArray, title: str = "") -> Path:
     """Bode plot of the direct TCP receptances H_xx, H_yy, H_zz (nf, 6, 6) [m/N], drawn

@@ -75,6 +75,9 @@ class Comparison:
         RMS of ``d_meas - d_pred`` over loaded readings [m].
     problem : Problem
         The data with the noise model and kinematics the comparison used.
+    model : str
+        Which model was compared (``"E-model"``, or ``"flexible model"`` with the
+        links' flexibility), for titles.
     """
 
     predicted: np.ndarray
@@ -83,6 +86,12 @@ class Comparison:
     band: tuple
     rms: float
     problem: Problem
+    model: str = "E-model"
+
+    @property
+    def poses(self) -> str:
+        """The measured poses, e.g. ``"P1, P2, P3"``."""
+        return ", ".join(sorted({r.pose for r in self.table}))
 
     def text(self) -> str:
         """The error table [mm], chi2_red with its band and the RMS [µm], as ``compare``
@@ -133,7 +142,8 @@ def compare_static(arm: ArmModel, data: StaticData, effects=(),
             max_meas_mm=float(meas.max() * 1e3) if err.size else 0.0))
     res = (data.disp - pred)[~pb.is_ref]
     return Comparison(pred, tuple(rows), chi2_red, chi2_band(max(pb.n_obs, 1)),
-                      float(np.sqrt(np.mean(res**2))) if res.size else 0.0, pb)
+                      float(np.sqrt(np.mean(res**2))) if res.size else 0.0, pb,
+                      "E-model" if flexible is None else "flexible model")
 
 
 def write_rows(path, row_type: type, rows) -> None:
@@ -165,11 +175,12 @@ def write_report(folder, cmp: Comparison) -> list[Path]:
             ax.plot(fmag[g], cmp.predicted[g, k] * 1e3, "-", color=f"C{k}")
         ax.set_title(str(data.series[g[0]]), fontsize=8)
         ax.tick_params(labelsize=7)
-    axes[0, 0].set_ylabel("deflection [mm]")
+    fig.supylabel("deflection [mm]", fontsize=8)
     axes[0, 0].legend(fontsize=6)
     fig.supxlabel("load |F| [N]  (points: measured, lines: model)", fontsize=8)
+    fig.suptitle(f"TCP deflection, measured vs {cmp.model}, at {cmp.poses}", fontsize=9)
     # Fixed margins: tight_layout over dozens of panels costs seconds per figure.
-    fig.subplots_adjust(left=0.05, right=0.99, bottom=0.4 / rows, top=1 - 0.25 / rows,
+    fig.subplots_adjust(left=0.06, right=0.99, bottom=0.4 / rows, top=1 - 0.25 / rows,
                         wspace=0.35, hspace=0.45)
     out.append(folder / "deflection_vs_force.png")
     fig.savefig(out[-1], dpi=90)
@@ -177,13 +188,16 @@ def write_report(folder, cmp: Comparison) -> list[Path]:
     res = (data.disp - cmp.predicted) * 1e6
     out += [write_residuals(folder / "residuals.csv", data.series, pb.tau, res * 1e-6,
                             data.force, data.disp, cmp.predicted),
-            plot_residual_vs_torque(folder / "residual_vs_torque.png", pb.tau, res * 1e-6)]
+            plot_residual_vs_torque(folder / "residual_vs_torque.png", pb.tau, res * 1e-6,
+                                    f"{cmp.model} at {cmp.poses}")]
     poses = sorted({r.pose for r in cmp.table})
     fig, ax = plt.subplots(figsize=(5, 3))
     pose_of = np.array([str(s).split("_")[0] for s in data.series])
     ax.boxplot([np.abs(res[(pose_of == p) & ~pb.is_ref]).ravel() for p in poses])
     ax.set_xticks(np.arange(1, len(poses) + 1), poses)
     ax.set_ylabel("|residual| [µm]")
+    ax.set_xlabel("pose")
+    ax.set_title(f"|measured - {cmp.model}| at {cmp.poses}", fontsize=9)
     fig.tight_layout()
     out.append(folder / "residual_by_pose.png")
     fig.savefig(out[-1], dpi=90)

@@ -28,7 +28,7 @@ TORQUE_SHARE = 1e-3
 
 
 def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
-                 sigma: float | None = None) -> Path:
+                 sigma: float | None = None, what: str = "") -> Path:
     """Bars of the fitted and held-out RMS error [µm] of each model version.
 
     Parameters
@@ -40,7 +40,10 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
         what the fit gained).
     sigma : float, optional
         Tracker noise [m]; the noise floor ``sqrt(2) sigma`` (a perfect model's expected
-        RMS) is drawn as a line.
+        RMS) is drawn as a line, and the reduced chi-square band of the last version
+        (``band_lo``, ``band_hi``) as the RMS band a perfect model falls in.
+    what : str
+        The model and poses, for the title (e.g. ``"E-model at P1, P2, P3"``).
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 3.6))
@@ -60,6 +63,12 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
         floor = NOISE_FLOOR_FACTOR * sigma * 1e6
         ax.axhline(floor, color="k", ls="--", lw=1,
                    label=f"noise floor √2·σ = {floor:.1f} µm\n(a perfect model's RMS)")
+        lo, hi = (rows[-1].get(k) for k in ("band_lo", "band_hi")) if rows else (None, None)
+        if lo is not None and hi is not None:
+            # RMS^2 / floor^2 is the reduced chi-square: its band, in µm
+            ax.axhspan(floor * np.sqrt(lo), floor * np.sqrt(hi), color="k", alpha=0.12,
+                       label=f"χ² band of a perfect model\n({floor * np.sqrt(lo):.1f}-"
+                             f"{floor * np.sqrt(hi):.1f} µm)")
     ax.set_xticks(x, labels)
     ax.set_xlabel("model version")
     ax.set_ylabel("RMS error [µm]")
@@ -73,7 +82,8 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
     # beside the axes: inside, it would cover the bars that sit near the noise floor
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0)
     steps = [r["model"].split(" + ")[-1] for r in rows]
-    ax.set_title("static error per model version: " + " -> ".join(
+    ax.set_title(f"static TCP error{' of the ' + what if what else ''} per model version: "
+                 + " -> ".join(
         (["nominal"] if nominal_rms is not None else []) + steps), fontsize=8)
     return save_figure(fig, path, dpi=90, bbox_inches="tight")
 

@@ -74,21 +74,28 @@ def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> Robot:
 
 
 def write_history(folder, diagnosis, nominal_rms: float | None = None,
-                  sigma: float | None = None) -> list[Path]:
+                  sigma: float | None = None, what: str = "") -> list[Path]:
     """``history.csv``, ``history.json`` and ``history.png``: error of each model version
     (the plot from the ``nominal_rms`` [m] model down, with the noise floor of ``sigma``
-    [m]: :func:`~flexarm.validation.diagnosis_plots.plot_history`)."""
+    [m] and the model and poses ``what`` in the title:
+    :func:`~flexarm.validation.diagnosis_plots.plot_history`)."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     rows = [{"version": i, "model": s.label, "chi2_red": s.chi2_red, "band_lo": s.band[0],
              "band_hi": s.band[1], "rms_fit_um": s.rms_fit * 1e6,
              "rms_heldout_um": s.rms_heldout * 1e6} for i, s in enumerate(diagnosis.steps)]
     out = [folder / "history.csv", folder / "history.json", folder / "history.png"]
+    # the nominal model's row first: the plot starts from it (fitted on every series,
+    # so it has no held-out error)
+    nominal = ([{"version": "nominal", "model": "nominal (as built)", "chi2_red": "",
+                 "band_lo": "", "band_hi": "", "rms_fit_um": nominal_rms * 1e6,
+                 "rms_heldout_um": ""}] if nominal_rms is not None else [])
     with open(out[0], "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
-        w.writerows(rows)
-    out[1].write_text(json.dumps({"versions": rows, "accepted": [e.to_dict() for e in
-                                                                 diagnosis.accepted]}, indent=2))
-    plot_history(out[2], rows, nominal_rms, sigma)
+        w.writerows(nominal + rows)
+    out[1].write_text(json.dumps({
+        "nominal_rms_um": None if nominal_rms is None else nominal_rms * 1e6,
+        "versions": rows, "accepted": [e.to_dict() for e in diagnosis.accepted]}, indent=2))
+    plot_history(out[2], rows, nominal_rms, sigma, what)
     return out

@@ -11,9 +11,10 @@ from flexarm.validation.diagnosis_plots import (
     write_residuals,
 )
 
-ROWS = [{"version": 0, "model": "baseline", "rms_fit_um": 22.2, "rms_heldout_um": 23.0},
+ROWS = [{"version": 0, "model": "baseline", "rms_fit_um": 22.2, "rms_heldout_um": 23.0,
+         "band_lo": 0.8, "band_hi": 1.2},
         {"version": 1, "model": "baseline + joint 2 backlash", "rms_fit_um": 20.3,
-         "rms_heldout_um": 21.0}]
+         "rms_heldout_um": 21.0, "band_lo": 0.81, "band_hi": 1.21}]
 
 
 def test_history_starts_at_the_nominal_model_with_a_noise_floor(tmp_path, figures):
@@ -25,7 +26,13 @@ def test_history_starts_at_the_nominal_model_with_a_noise_floor(tmp_path, figure
     floor = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
     assert floor and floor[0].get_ydata()[0] == pytest.approx(NOISE_FLOOR_FACTOR * 15.0)
     assert ax.get_yscale() == "log"  # 161 vs 20 µm: linear bars would hide the fits
-    assert len(ax.get_legend().get_texts()) == 3 and "µm" in ax.get_ylabel()
+    assert len(ax.get_legend().get_texts()) == 4 and "µm" in ax.get_ylabel()
+    # the chi-square band of the last version, as RMS: floor * sqrt(band)
+    [band] = [p for p in ax.patches if p.get_alpha() == pytest.approx(0.12)]
+    corners = band.get_transform().transform(band.get_path().vertices)
+    ys = ax.transData.inverted().transform(corners)[:, 1]
+    assert (ys.min(), ys.max()) == pytest.approx(NOISE_FLOOR_FACTOR * 15.0
+                                                 * np.sqrt([0.81, 1.21]), rel=1e-6)
 
 
 def test_history_without_nominal_is_the_versions_only(tmp_path, figures):

@@ -146,6 +146,25 @@ def test_run_diagnosis_text_and_updated_robot(tmp_path, demo, lab):
         "history.csv", "history.json", "history.png"]
 
 
+def test_history_csv_holds_every_plotted_bar_from_the_nominal_model(tmp_path, demo, lab,
+                                                                    figures):
+    import csv
+
+    from flexarm.validation.history import write_history
+
+    run = run_diagnosis(lab(["base:k=1e7"], poses=("P1", "P2"), dirs="x,y,z",
+                            loads="0:800:200", seed=3, perturb=(1,) * 6))
+    write_history(tmp_path, run.diagnosis, nominal_rms=161e-6, sigma=run.sigma)
+    with open(tmp_path / "history.csv") as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows[0]["version"] == "nominal" and rows[0]["rms_heldout_um"] == ""
+    assert len(rows) == len(run.diagnosis.steps) + 1
+    bars = figures["history.png"].axes[0].containers[0]
+    np.testing.assert_allclose([b.get_height() for b in bars],
+                               [float(r["rms_fit_um"]) for r in rows], rtol=1e-12)
+    assert float(rows[0]["rms_fit_um"]) == pytest.approx(161.0)
+
+
 def test_angles_outside_the_robots_limits_name_file_line_and_column(tmp_path, demo):
     """A reading at q2 = 160 deg (the demo arm's joint 2 stops at 150 deg) is refused by
     compare and diagnose with the file, line and column, before any model is used."""
