@@ -1,13 +1,19 @@
-"""Every matplotlib picture the demo writes, read back as a figure object: a title naming
-the model and the pose(s), labelled axes with units, and a legend wherever more than
-one series is drawn."""
+"""One demo run, read back: every matplotlib picture as a figure object (a title naming
+the model and the pose(s), labelled axes with units, a legend wherever more than one
+series is drawn), and every figure the README quotes from the demo, recomputed from the
+files the run wrote.  Two fresh runs in empty caches write the same tables (slow)."""
 
 from __future__ import annotations
 
+import csv
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
+
+README = Path(__file__).resolve().parents[2] / "README.md"
 
 #: Words that name a model in a title.
 MODELS = re.compile(r"E-model|Guyan|CB|full FE|flexible|measured")
@@ -144,3 +150,102 @@ def test_checker_catches_a_bare_picture(figures, tmp_path):
         "bare.png: axes 0 has no y label",
         "bare.png: several series and no legend",
     ]
+
+
+def _csv(path: Path) -> list[dict]:
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _readme_demo_section() -> str:
+    text = README.read_text()
+    return " ".join(text[text.index("## What the demo shows"):
+                         text.index("## Benchmarks")].split())
+
+
+def _expected(out: Path) -> list[str]:
+    """The README's demo figures, formatted from the run's own files."""
+    index = (out / "index.md").read_text()
+    said = []
+    for r in _csv(out / "emodel_poses.csv"):
+        d = [float(r[f"d{c}_800N_mm"]) for c in "xyz"]
+        said.append(f"| {r['pose']} | {float(r['f1_Hz']):.2f} | "
+                    + " / ".join(f"{v:.2f}" for v in d) + f" | {r['weakest'].upper()} |")
+    flexible = index[index.index("## The flexible arm"):]
+    said += [line for line in flexible.splitlines() if re.match(r"\| P\d \|", line)]
+    said.append(re.search(r"IRB 4600-class arm, (\d+\.\d) kg", index).group(1) + " kg")
+    shares = re.findall(r"least stiff direction on (\d+\.\d)% of the grid", index)
+    said.append(f"{shares[0]} % (E-model) and {shares[1]} % (flexible)")
+    study = _csv(out / "study" / "arm_study.csv")
+    ref, cb, guyan = (next(r for r in study if r["label"] == name and r["coupling"] == "rbe2")
+                      for name in ("full-FE", "CB(10)", "Guyan"))
+    said.append(f"reference at P1 ({int(ref['n_fe_dofs']):,} DOF), CB(10) with "
+                f"{cb['n_reduced']} arm coordinates is within "
+                f"{100 * float(cb['freq_err_max']):.3g} % on the first 10 frequencies and "
+                f"{float(cb['C_err_max']):.2g} on the TCP compliance")
+    said.append(f"Guyan ({guyan['n_reduced']} coordinates) is within "
+                f"{100 * float(guyan['freq_err_max']):.2g} %")
+    mesh = _csv(out / "study" / "arm_study_mesh_error.csv")
+    change = [100 * float(r["rel_change"]) for r in mesh]
+    worst = max(range(len(change)), key=change.__getitem__)
+    said.append(f"{change[0]:.2g} % lower on f1 and up to {change[worst]:.2g} % lower "
+                f"(mode {worst + 1})")
+    models = _csv(out / "models" / "model_comparison.csv")
+    moves, first3, c_move = [], 0.0, (0.0, "")
+    for pose in ("P1", "P2", "P3"):
+        cb10, wrist = (next(r for r in models if r["pose"] == pose and r["model"] == m)
+                       for m in ("CB(10)", "CB(10)+wrist"))
+        df = [abs(float(wrist[f"f{i}_Hz"]) / float(cb10[f"f{i}_Hz"]) - 1) for i in range(1, 11)]
+        moves.append(f"{100 * max(df):.2g}")
+        first3 = max(first3, *df[:3])
+        for c in ("xx", "yy", "zz"):
+            dc = abs(float(wrist[f"C{c}_mm_per_kN"]) / float(cb10[f"C{c}_mm_per_kN"]) - 1)
+            c_move = max(c_move, (dc, f"{pose} C{c}"))
+    said.append(f"by up to {' / '.join(moves)} % at P1 / P2 / P3 and the TCP compliance by up "
+                f"to {100 * c_move[0]:.2f} % ({c_move[1]})")
+    assert first3 < 1e-5
+    said.append(re.search(r"joint 2 backlash of (\S+ ± \S+ mrad)", index).group(1))
+    nominal = re.search(r"Nominal model: χ²_red (\S+),", index).group(1)
+    final = re.search(r"χ²_red (\S+) \(band (\S+)\)", index)
+    said.append(f"falls from {nominal} (nominal file) to {final.group(1)} (band "
+                f"{final.group(2)})")
+    return said
+
+
+def test_readme_quotes_the_demo_to_the_printed_digits(demo_figures):
+    out, _ = demo_figures
+    section = _readme_demo_section()
+    missing = [s for s in _expected(out) if " ".join(s.split()) not in section]
+    assert not missing, "README differs from the demo run:\n" + "\n".join(missing)
+
+
+#: Columns that hold wall times: the only cells two runs may differ in.
+_TIMES = re.compile(r"seconds|time_s$")
+
+
+def _tables(folder: Path) -> dict[str, list[list[str]]]:
+    """Every CSV of a demo folder, time columns blanked."""
+    tables = {}
+    for path in sorted(folder.rglob("*.csv")):
+        with open(path, newline="") as fh:
+            rows = list(csv.reader(fh))
+        keep = [i for i, name in enumerate(rows[0]) if not _TIMES.search(name)] if rows else []
+        tables[str(path.relative_to(folder))] = [[r[i] for i in keep if i < len(r)]
+                                                 for r in rows]
+    return tables
+
+
+@pytest.mark.slow
+def test_two_fresh_demos_write_identical_tables(tmp_path):
+    import os
+
+    runs = []
+    for name in ("a", "b"):
+        env = dict(os.environ, FLEXARM_CACHE=str(tmp_path / name / "cache"))
+        subprocess.run([sys.executable, "-m", "flexarm.cli", "-q", "demo", "-o",
+                        str(tmp_path / name / "out")], env=env, check=True)
+        runs.append(_tables(tmp_path / name / "out"))
+    a, b = runs
+    assert a.keys() == b.keys() and len(a) >= 15
+    for name in a:
+        assert a[name] == b[name], name
