@@ -62,14 +62,16 @@ def wrote(paths: Iterable) -> None:
 
 
 class Progress:
-    """Start/finish lines with elapsed time on stderr; a ticking timer on a terminal.
+    """Start/finish lines with elapsed time on stderr; on a terminal a ticking timer
+    (tqdm's status line, redrawn in place).
 
-    Carriage returns (the ticking timer) go to a terminal only: a log file gets plain
-    lines, one per start, note and finish.  Nothing under ``-q``.
+    Carriage returns go to a terminal only: a log file gets plain lines, one per start,
+    note and finish.  Nothing under ``-q``.
     """
 
     def __init__(self, what: str):
         self.what = what
+        self._bar = None
 
     def _write(self, text: str) -> None:
         if not _QUIET.is_set():
@@ -79,25 +81,32 @@ class Progress:
     def __enter__(self):
         self.t0 = time.perf_counter()
         self._stop = threading.Event()
-        self._tty = sys.stderr.isatty()
-        self._write(f"{self.what} ..." if self._tty else f"{self.what} ...\n")
-        if self._tty and not _QUIET.is_set():
+        if sys.stderr.isatty() and not _QUIET.is_set():
+            from tqdm import tqdm
+
+            self._bar = tqdm(total=None, desc=self.what, file=sys.stderr, leave=False,
+                             bar_format="{desc} ... {elapsed}", mininterval=1.0)
             threading.Thread(target=self._tick, daemon=True).start()
+        else:
+            self._write(f"{self.what} ...\n")
         return self
 
     def _tick(self) -> None:
         while not self._stop.wait(1.0):
-            self._write(f"\r{self.what} ... {time.perf_counter() - self.t0:5.0f} s")
+            self._bar.refresh()
 
     def note(self, text: str) -> None:
-        self._write(f"\n  {text}" if self._tty else f"  {text}\n")
+        if self._bar is not None:
+            self._bar.write(f"  {text}", file=sys.stderr)
+        else:
+            self._write(f"  {text}\n")
 
     def __exit__(self, exc_type, exc, tb):
         self._stop.set()
+        if self._bar is not None:
+            self._bar.close()
         status = "done" if exc_type is None else "failed"
-        dt = time.perf_counter() - self.t0
-        self._write(f"\r{self.what} ... {status} in {dt:.1f} s\n" if self._tty
-                    else f"{self.what}: {status} in {dt:.1f} s\n")
+        self._write(f"{self.what}: {status} in {time.perf_counter() - self.t0:.1f} s\n")
         return False
 
 

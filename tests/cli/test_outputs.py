@@ -233,6 +233,27 @@ def test_progress_writes_plain_lines_to_a_log(capsys):
     assert err.splitlines()[1] == "  step 1" and err.splitlines()[2].startswith("work: done in")
 
 
+def test_progress_on_a_terminal_redraws_one_line_then_ends_plainly(monkeypatch):
+    import io
+    import sys
+
+    from flexarm.cli._common import Progress
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    term = Terminal()
+    monkeypatch.setattr(sys, "stderr", term)
+    with Progress("work") as pr:
+        time.sleep(1.3)  # one tick of the timer
+        pr.note("step 1")
+    text = term.getvalue()
+    assert "\r" in text and "work ... 00:01" in text  # tqdm's elapsed time, redrawn
+    assert "  step 1\n" in text
+    assert text.rstrip("\n").split("\n")[-1].split("\r")[-1].startswith("work: done in")
+
+
 @pytest.mark.parametrize("command", ["modes", "compliance", "frf", "map", "chatter",
                                      "chatter-map", "circle", "show-arm"])
 def test_mass_defaults_to_the_cad_surfaces(command):
