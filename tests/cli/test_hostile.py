@@ -41,7 +41,8 @@ def _caches(monkeypatch, tmp_path):
 # --- inputs ----------------------------------------------------------------------------
 def robot(tmp: Path, *edits: tuple[str, str], name: str = "robot.toml") -> Path:
     """The demo robot TOML with ``(old, new)`` text edits, its meshes referenced in place."""
-    text = DEMO.read_text().replace('mesh = "meshes/', f'mesh = "{DEMO.parent}/meshes/')
+    text = (DEMO.read_text().replace('mesh = "meshes/', f'mesh = "{DEMO.parent}/meshes/')
+            .replace('= "tets/', f'= "{DEMO.parent}/tets/'))
     for old, new, *count in edits:  # (old, new) replaces the first, (old, new, -1) every one
         assert old in text, old
         text = text.replace(old, new, *(count or [1]))
@@ -569,7 +570,8 @@ def test_fuzzed_measurement_csv_never_escapes(fuzz_dir, data):
 def test_fuzzed_robot_toml_never_escapes(fuzz_dir, data):
     from flexarm.robot.formats import read
 
-    base = DEMO.read_text().replace('mesh = "meshes/', f'mesh = "{DEMO.parent}/meshes/')
+    base = (DEMO.read_text().replace('mesh = "meshes/', f'mesh = "{DEMO.parent}/meshes/')
+            .replace('= "tets/', f'= "{DEMO.parent}/tets/'))
     _reads_or_refuses(read, fuzz_dir / "robot.toml", data.draw(mutated(base)))
 
 
