@@ -55,12 +55,17 @@ class SparseBody:
         are link-frame quantities.
     points : mapping str -> (6, n_b) sparse CSR
         Attachment points (link frame).
+    recovery : ((k, 3) float, (3 k, n_b) sparse CSR) or None
+        The link's FE surface nodes: their link-frame positions [m] and their x, y, z
+        translation [m] from the body coordinates (couplings included), for shapes at
+        measurement points; None for a rigid body.
     """
 
     name: str
     K: sp.csr_matrix
     M: sp.csr_matrix
     points: Mapping[str, sp.csr_matrix]
+    recovery: tuple | None = None
 
     @property
     def n_dofs(self) -> int:
@@ -145,7 +150,16 @@ def _fe_body(robot: Robot, i: int, opts: BuildOptions, mesher: Mesher | None) ->
         pts[key] = (sp.csr_matrix(rigid_transport(p - nodes[k])) @ Sb[6 * k : 6 * k + 6]).tocsr()
     K = 0.5 * (K + K.T)
     M = 0.5 * (M + M.T)
-    return SparseBody(lk.name, K.tocsr(), M.tocsr(), pts)
+    return SparseBody(lk.name, K.tocsr(), M.tocsr(), pts, _recovery(c, mesh, P))
+
+
+def _recovery(coupling, mesh, P: sp.csr_matrix) -> tuple:
+    """:attr:`SparseBody.recovery`: the surface nodes' FE displacements ``T P`` from
+    the body coordinates (``P``: coupled DOFs from body coordinates)."""
+    surface = np.unique(mesh.boundary_faces())
+    rows = (3 * surface[:, None] + np.arange(3)).ravel()
+    return (np.asarray(mesh.points, float)[surface],
+            (coupling.T.tocsr()[rows] @ P).tocsr())
 
 
 def full_fe_bodies(robot: Robot,

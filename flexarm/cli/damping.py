@@ -17,9 +17,12 @@ def _add_fit_damping(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", required=True,
                    help="robot file (.toml) to write with the fitted joint damping; the "
                         "measured vs fitted plot goes next to it (<stem>.damping.png)")
-    p.add_argument("--method", default="auto", choices=["auto", "constant", "rayleigh", "joints"],
+    p.add_argument("--method", default="auto",
+                   choices=["auto", "constant", "rayleigh", "joints", "modal"],
                    help="fit to write: one ratio for all joints, one Rayleigh law for all "
-                        "joints, one ratio per joint; auto = lowest AICc")
+                        "joints, one ratio per joint; auto = lowest AICc; modal = the "
+                        "identified ratios themselves, per pose, in a [modal_damping] table "
+                        "(the FRF at those poses uses them)")
     _add_max_hz(p)
 
 
@@ -38,6 +41,14 @@ def _run_fit_damping(args) -> int:
     output = Path(args.output)
     if output.suffix.lower() != ".toml":
         raise ValueError(f"--output {output}: the robot file must be a .toml")
+    if args.method == "modal":
+        from ..validation.pose_damping import store_modal_damping
+
+        stored = store_modal_damping(args.modal, args.robot, max_hz=args.max_hz)
+        out(stored.text())
+        write_robot(output, stored.robot)
+        wrote([output])
+        return 0
     res = fit_damping(args.modal, args.robot, args.method, max_hz=args.max_hz)
     out(res.text())
     write_robot(output, res.robot)

@@ -42,7 +42,21 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
     p.add_argument("--modal", default=None, help="also write natural frequencies to this CSV")
     p.add_argument("--n-modes", type=int, default=4, help="modes per pose in --modal")
     p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
+    p.add_argument("--frf-band", default=None, help="band of the FRFs of a --modal universal "
+                   "file [Hz], LO:HI (default: 0.25 Hz to 1.2x the highest mode kept), "
+                   "e.g. 0.25:300 to reach the wrist modes")
     p.add_argument("-o", "--output", required=True, help="static CSV to write")
+
+
+def _band(text: str | None) -> tuple | None:
+    """``LO:HI`` [Hz] as a pair of floats (None stays None)."""
+    if text is None:
+        return None
+    try:
+        lo, hi = (float(v) for v in text.split(":"))
+    except ValueError:
+        raise ValueError(f"--frf-band '{text}': expected LO:HI in Hz, e.g. 0.25:300") from None
+    return lo, hi
 
 
 @command("lab", "virtual lab: static series from the model + hidden effects + tracker noise",
@@ -53,7 +67,8 @@ def _run_lab(args) -> int:
     lab = run_lab(args.robot, args.effect, _options(args), noise=args.noise, poses=args.poses,
                   loads=args.loads, dirs=args.dirs, cycles=args.cycles, seed=args.seed,
                   ref_noise=args.ref_noise, modal=args.modal is not None, n_modes=args.n_modes,
-                  freq_noise_pct=args.freq_noise, progress=say)
+                  freq_noise_pct=args.freq_noise, progress=say,
+                  frf_band=_band(args.frf_band))
     out(lab.text(lab.write(args.output, args.modal)))
     return 0
 
@@ -97,6 +112,9 @@ def _add_diagnose(p: argparse.ArgumentParser) -> None:
     p.add_argument("--modal", default=None, help="measured natural frequencies CSV (joins the "
                    "fits; implies --flexible)")
     p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
+    p.add_argument("--shape-noise", type=float, default=2.0, help="scatter of a measured "
+                   "shape entry [%% of the shape's largest entry] (--modal with shapes: "
+                   "modes paired by MAC, shapes join the fits)")
 
 
 @command("diagnose", "find which physical effect the model misses in static measurements",
@@ -108,7 +126,8 @@ def _run_diagnose(args) -> int:
         raise ValueError("--apply needs -o NEW_ROBOT.toml")
     run = run_diagnosis(args.data, args.robot, _options(args), noise_um=args.noise,
                         noise_model=args.noise_model, modal=args.modal,
-                        freq_noise_pct=args.freq_noise, progress=say)
+                        freq_noise_pct=args.freq_noise, progress=say,
+                        shape_noise_pct=args.shape_noise)
     out(run.text())
     if args.report:
         wrote(run.write_history(args.report))

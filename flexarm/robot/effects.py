@@ -90,12 +90,21 @@ class Effect:
         return self.kind if self.joint is None else f"joint {self.joint + 1} {self.kind}"
 
     def to_dict(self) -> dict:
-        return {"kind": self.kind, "joint": self.joint, "params": dict(self.params)}
+        """JSON-ready record; joints are numbered from 1 (``joint_number``), as the
+        command line and every label count them."""
+        return {"kind": self.kind,
+                "joint_number": None if self.joint is None else self.joint + 1,
+                "params": dict(self.params)}
 
     @classmethod
     def from_dict(cls, d: dict) -> Effect:
-        return cls(d["kind"], d.get("joint"), tuple((k, float(v))
-                                                    for k, v in d.get("params", {}).items()))
+        """The record of :meth:`to_dict`; older files' 0-based ``joint`` is read too."""
+        if "joint_number" in d:
+            joint = None if d["joint_number"] is None else int(d["joint_number"]) - 1
+        else:
+            joint = d.get("joint")
+        return cls(d["kind"], joint, tuple((k, float(v))
+                                           for k, v in d.get("params", {}).items()))
 
 
 def _value(text: str) -> float:

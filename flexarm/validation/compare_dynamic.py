@@ -25,6 +25,7 @@ from ..assembly.system import ArmModel
 from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
 from ..fe.text import text_table
+from ..fe.units import RECEPTANCE_SCALE, RECEPTANCE_UNIT
 from .compare import write_rows
 from .fit import chi2_band
 from .measurements import FrfData, ModalData
@@ -33,11 +34,6 @@ from .tolerances import tol
 
 __all__ = ["ModalError", "ModalComparison", "FrfError", "FrfComparison", "compare_modal",
            "compare_frf", "write_modal_report", "write_frf_report"]
-
-
-#: Receptance on plots: mm/kN (= µm/N), as in every other human-facing output (the
-#: ``studies`` plots use the same pair); files keep m/N.
-RECEPTANCE_UNIT, RECEPTANCE_SCALE = "mm/kN", 1e6
 
 
 def _model(arm: ArmModel, effects, flexible):
@@ -224,12 +220,18 @@ def _groups(data: FrfData) -> dict:
 
 
 def compare_frf(arm: ArmModel, data: FrfData, effects=(),
-                flexible: ArmModel | None = None) -> FrfComparison:
-    """Model receptances at the measured lines of ``data`` and the per-pair errors."""
+                flexible: ArmModel | None = None, robot=None) -> FrfComparison:
+    """Model receptances at the measured lines of ``data`` and the per-pair errors;
+    at a pose of ``robot.modal_damping`` with its stored modal damping
+    (:func:`~.pose_damping.pose_damping`)."""
+    from .pose_damping import pose_damping
+
     model = _model(arm, effects, flexible)
     H = np.zeros(len(data.freq_hz), complex)
     for rows in _groups(data).values():
-        Hk = frf(model, data.q[rows[0]][: model.chain.n_joints], data.freq_hz[rows])
+        q = data.q[rows[0]][: model.chain.n_joints]
+        zeta = None if robot is None else pose_damping(robot, model, q)
+        Hk = frf(model, q, data.freq_hz[rows], zeta)
         H[rows] = Hk[:, data.output_axes[rows[0]], data.input_axes[rows[0]]]
     table = []
     for key, rows in _groups(data).items():

@@ -27,7 +27,15 @@ import numpy as np
 
 from ..assembly.system import ArmModel
 from .candidates import Screen, library, load_proposal, screen, status_of
-from .diagnosis import CandidateReport, Checks, Diagnosis, Identifiability, Step, Winner
+from .diagnosis import (
+    CandidateReport,
+    Checks,
+    Diagnosis,
+    Identifiability,
+    Step,
+    Winner,
+    weak_directions,
+)
 from .explain import explain, static_notes
 from .fit import FitResult, Problem, baseline_effects, chi2_band, fit_model, heldout_rms
 from .measurements import ModalData, StaticData
@@ -36,6 +44,8 @@ from .modal import ModalProblem
 from .refit import physical_refit as _refit
 from .refit import shape_marginal as _shape_marginal
 from .residual_structure import residual_structure
+from .shape_data import Points, ShapeData
+from .shape_fit import SHAPE_NOISE, ShapeProblem
 from .shape_search import research_shapes, shaped
 from .tolerances import tol
 
@@ -88,11 +98,14 @@ def identifiability(problem: Problem, fit) -> Identifiability:
         series = [str(problem.data.series[g[0]]) for g in problem.groups
                   if np.any(np.diff(np.sign(problem.tau[g, j])) != 0)]
         flips.append(tuple(series))
+    names = [f"{fit.effects[i].label.replace('stiffness', 'torsion')}"
+             + ("" if name == "scale" else f" {name}") for i, name in fit.free]
     return Identifiability(
         singular_values=tuple(sv.tolist()),
         condition=float(sv.max() / max(sv.min(), 1e-300)) if sv.size else float("nan"),
         correlation=tuple(map(tuple, corr.tolist())), stderr=tuple(sd.tolist()),
-        sign_changes={f"joint_{j + 1}": s for j, s in enumerate(flips)})
+        sign_changes={f"joint_{j + 1}": s for j, s in enumerate(flips)},
+        weak=weak_directions(X, names))
 
 
 def leave_one_pose_out(problem: Problem, effects, free, scales, prior) -> dict:
@@ -126,7 +139,9 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
              noise_model: str = "shared", max_effects: int = 3,
              heldout: bool = True, poses: dict | None = None,
              modal: ModalData | None = None, flexible: ArmModel | None = None,
-             freq_noise: float = tol.freq_noise, exclude: tuple = ()) -> Diagnosis:
+             freq_noise: float = tol.freq_noise, exclude: tuple = (),
+             points: Points | None = None, shape_noise: float = SHAPE_NOISE,
+             builds=None) -> Diagnosis:
     """Diagnose which effects the model ``arm`` misses in the static ``data``.
 
     ``poses`` (name -> q [rad], e.g. ``robot.poses``) widen the search for load proposals.
@@ -134,6 +149,10 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
     static data in every fit; ``flexible`` (the robot's flexible model) adds the
     link-flexibility candidate (:mod:`~flexarm.assembly.linkflex`).  ``exclude`` names
     candidates (``"frame"``, ``"tool"``, ``"balancer_j2"``) or kinds left out of the library.
+    When ``modal`` carries mode shapes (:class:`~.shape_data.ShapeData`) at ``points``,
+    its modes are paired with the model's by MAC and a shape residual (noise
+    ``shape_noise`` times each shape's largest entry) joins every fit
+    (:class:`~.shape_fit.ShapeProblem`; ``builds`` give flexible links their shapes).
     Returns a :class:`Diagnosis`; ``accepted`` holds the accepted effects with fitted
     parameters, ``final_effects`` the full fitted model (baseline scales included) and
     ``misfit`` the verdict on it (:mod:`~flexarm.validation.misfit`).  Readings the final
@@ -142,8 +161,13 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
     """
     log.info("diagnosis of %d readings%s", len(data.series),
              "" if modal is None else f" and {len(modal.freq_hz)} frequencies")
-    problem = (Problem(arm, data, sigma, noise_model, flexible) if modal is None else
-               ModalProblem(arm, data, sigma, noise_model, flexible, modal, freq_noise))
+    if modal is None:
+        problem = Problem(arm, data, sigma, noise_model, flexible)
+    elif isinstance(modal, ShapeData) and points is not None:
+        problem = ShapeProblem(arm, data, sigma, noise_model, flexible, modal, freq_noise,
+                               points, shape_noise, builds)
+    else:
+        problem = ModalProblem(arm, data, sigma, noise_model, flexible, modal, freq_noise)
     for _ in range(3):
         dg, final_fit = _search(problem, max_effects, heldout, poses, exclude)
         rs = residual_structure(problem, final_fit.effects, final_fit.sensitivity,
@@ -158,7 +182,10 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
     verdict = misfit_verdict(final.label, final.chi2_red, final.band, rs, discounted)
     log.info("diagnosis done: %d effects accepted%s", len(dg.accepted),
              ", unexplained misfit" if verdict.unexplained else "")
-    return replace(dg, misfit=verdict, notes=_notes(arm, problem, flexible, rs))
+    notes = _notes(arm, problem, flexible, rs)
+    if isinstance(problem, ShapeProblem):
+        notes += (problem.shape_note(dg.final_effects),)
+    return replace(dg, misfit=verdict, notes=notes)
 
 
 def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()):
@@ -168,6 +195,7 @@ def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()
     n_base = len(effects)
     scales = np.ones(len(free))
     prior = {f: (1.0, tol.baseline_prior_sd) for f in free}
+    effects = list(getattr(problem, "start_effects", effects))
     if problem.noise_model != "shared":  # the trap demonstration keeps the joint library:
         # the measurement candidates read patterns only the GLS metric makes meaningful
         exclude = tuple(exclude) + ("tool", "frame", "balancer")

@@ -254,7 +254,8 @@ def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effec
             dirs: str | list = "x,y,z", cycles: bool = False, seed: int = 0,
             ref_noise: float | str = 0.0, modal: bool = False, n_modes: int = 4,
             freq_noise_pct: float = 100 * tol.freq_noise,
-            progress: Callable[[str], None] | None = None) -> LabResult:
+            progress: Callable[[str], None] | None = None,
+            frf_band: tuple | None = None) -> LabResult:
     """Virtual lab: static series (and natural frequencies) of ``robot``'s E-model with
     its own effects plus the hidden ``effects``, and tracker noise.
 
@@ -286,6 +287,9 @@ def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effec
         relative noise.
     progress : callable (str) -> None, optional
         Gets a line per step of a flexible-model build.
+    frf_band : (float, float) or None
+        Band of the FRFs written with the shapes [Hz] (default: 0.25 Hz to 1.2 times the
+        highest mode kept), 0.25 Hz lines.
 
     Examples
     --------
@@ -319,19 +323,20 @@ def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effec
     return LabResult(data, truth, modal_data,
                      **lab_shapes(models.arm, robot, plan.poses, effects, n_modes,
                                   freq_noise_pct / 100, seed, flexible=models.flexible,
-                                  builds=shape_builds(models, options)))
+                                  builds=shape_builds(models, options), band=frf_band))
 
 
 def lab_shapes(arm: ArmModel, robot: Robot, poses: dict, effects, n_modes: int,
                freq_noise: float, seed: int, frf_noise: float = 0.02,
-               flexible: ArmModel | None = None, builds=None) -> dict:
+               flexible: ArmModel | None = None, builds=None,
+               band: tuple | None = None) -> dict:
     """Mode shapes and FRFs of the virtual lab at the robot's default points: keyword
     arguments ``shapes``, ``frfs``, ``points``, ``coordinates`` of :class:`LabResult`.
 
     The FRFs are receptances at every point (x, y, z) per force at the TCP along x, y
-    and z, from 0.25 Hz in 0.25 Hz steps to 1.2 times the highest mode kept, with
-    ``frf_noise`` relative noise per line.  ``flexible`` and its ``builds`` (for the
-    recovery at the points) serve a link-flexibility effect.
+    and z, from 0.25 Hz in 0.25 Hz steps to 1.2 times the highest mode kept (or over
+    ``band`` = (lo, hi) [Hz]), with ``frf_noise`` relative noise per line.  ``flexible``
+    and its ``builds`` (for the recovery at the points) serve a link-flexibility effect.
     """
     from ..robot.kinematics import link_frames
     from .shapes import default_points
@@ -339,8 +344,10 @@ def lab_shapes(arm: ArmModel, robot: Robot, poses: dict, effects, n_modes: int,
     points = default_points(robot)
     shapes = virtual_shapes(arm, poses, points, effects, n_modes, freq_noise, 0.0, seed,
                             flexible, builds)
-    top = 1.2 * float(shapes.freq_hz.max())
-    freq = 0.25 * np.arange(1, int(np.ceil(top / 0.25)) + 1)
+    lo, top = band if band is not None else (0.25, 1.2 * float(shapes.freq_hz.max()))
+    if not 0 < lo < top:
+        raise ValueError(f"FRF band {lo:g}:{top:g} Hz: expected 0 < LO < HI")
+    freq = 0.25 * np.arange(max(int(np.ceil(lo / 0.25)), 1), int(np.ceil(top / 0.25)) + 1)
     tcp = int(points.nodes[-1])
     frfs = virtual_frfs(arm, poses, points, [(tcp, d) for d in "xyz"], freq, effects,
                         frf_noise, seed, flexible, builds)

@@ -13,7 +13,10 @@ motion from the body's own coordinates:
   bending is in the shape, plus the link's rotation times the offset from that node to
   ``p`` (a point inside a hollow casting, on a joint axis, moves rigidly with it).
   A superelement without a recovery matrix falls back to a rigid transport from its
-  nearest interface node (how joints and the TCP attach).
+  nearest interface node (how joints and the TCP attach);
+- the full-FE arm (:class:`~flexarm.assembly.full_arm.FullFEArm`, unreduced links): the
+  same nearest-surface-node rule on the link's own FE DOFs, as sparse rows
+  (:mod:`~flexarm.validation.shapes_full`).
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import numpy as np
 
 from ..assembly.analyses import modes
 from ..assembly.flexible import body_coordinates
+from ..assembly.full_arm import FullFEArm
 from ..assembly.system import ArmModel, rotation_blocks, system_matrices
 from ..fe.typing import ArrayLike, FloatArray
 from ..reduction.couplings import rigid_transport
@@ -118,8 +122,13 @@ def model_shapes(arm: ArmModel, q: ArrayLike, points: Points, nodes: ArrayLike,
     n = len(md.freq_hz) if n_modes is None else min(int(n_modes), len(md.freq_hz))
     rows = points.index(nodes)
     axes = np.searchsorted(np.array(DIRECTIONS), np.asarray(dirs))
-    D = point_map(arm, q, points, builds)[rows, axes]
-    return md.freq_hz[:n], md.damping[:n], (D @ md.shapes[:, :n]).T
+    if isinstance(arm, FullFEArm):  # every FE DOF: sparse rows
+        from .shapes_full import full_point_rows
+
+        D = full_point_rows(arm, q, points, rows, axes)
+    else:
+        D = point_map(arm, q, points, builds)[rows, axes]
+    return md.freq_hz[:n], md.damping[:n], np.asarray((D @ md.shapes[:, :n]).T)
 
 
 def model_shape_data(arm: ArmModel, poses: dict, points: Points, n_modes: int = 6,
@@ -151,7 +160,7 @@ def default_points(robot) -> Points:
     --------
     >>> from flexarm.robot.demo_arm import load_demo_robot
     >>> p = default_points(load_demo_robot())
-    >>> p.n_points, p.nodes[-1]
+    >>> p.n_points, int(p.nodes[-1])
     (12, 601)
     """
     chain = robot.chain

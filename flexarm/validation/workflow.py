@@ -19,7 +19,7 @@ from ..robot.description import Robot
 from ..robot.formats import write as write_robot_file
 from .compare import Comparison, compare_static
 from .compare_dynamic import FrfComparison, ModalComparison, compare_frf, compare_modal
-from .compare_shapes import compare_with_models
+from .compare_shapes import compare_with_models, measurement_points, shape_builds
 from .damping_check import DampingDiagnosis, diagnose_damping
 from .diagnose import Diagnosis, diagnose
 from .formats import read_measurements
@@ -27,6 +27,7 @@ from .history import robot_with_effects, write_history
 from .measurements import FrfData, ModalData, PathData, StaticData
 from .models import DEFAULT_OPTIONS, ValidationModels, ValidationOptions, load, validation_models
 from .shape_data import ShapeData
+from .shape_fit import SHAPE_NOISE
 
 __all__ = ["compare", "DiagnosisRun", "run_diagnosis"]
 
@@ -88,7 +89,7 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
     if isinstance(data, ModalData):
         return compare_modal(models.arm, data, effects, freq_noise_pct / 100, models.flexible)
     if isinstance(data, FrfData):
-        return compare_frf(models.arm, data, effects, models.flexible)
+        return compare_frf(models.arm, data, effects, models.flexible, robot)
     if isinstance(data, StaticData):
         return compare_static(models.arm, data, effects, noise_um * 1e-6, models.flexible)
     raise ValueError(f"cannot compare a model with {type(data).__name__} (static, modal or "
@@ -150,7 +151,8 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
                   options: ValidationOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
                   noise_model: str = "shared", modal: ModalData | PathType | None = None,
                   freq_noise_pct: float = 0.5, damping_noise_pct: float = 5.0,
-                  progress: Callable[[str], None] | None = None) -> DiagnosisRun:
+                  progress: Callable[[str], None] | None = None,
+                  shape_noise_pct: float = 100 * SHAPE_NOISE) -> DiagnosisRun:
     """Diagnose which effects the E-model of ``robot`` misses in static ``data``
     (:func:`~.diagnose.diagnose`).
 
@@ -173,6 +175,11 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
         Their relative noise [%].
     damping_noise_pct : float
         Relative scatter of an identified damping ratio [%].
+    shape_noise_pct : float
+        Scatter of a measured shape entry, in % of the shape's largest entry: modal data
+        with shapes are paired with the model's modes by MAC and their shapes join
+        every fit (:class:`~.shape_fit.ShapeProblem`; points from
+        :func:`~.compare_shapes.measurement_points`).
     progress : callable (str) -> None, optional
         Gets a line per step of a flexible-model build.
     """
@@ -181,13 +188,19 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
         raise ValueError("diagnose starts from a linear model: the robot file already has "
                          "a [nonlinear] table")
     data = _read(data, robot)
+    modal_path = None if modal is None or isinstance(modal, Measurements) else modal
     modal = None if modal is None else _read(modal, robot)
     damping = _damping_check(modal, robot, options, damping_noise_pct)
     if modal is not None:
         options = replace(options, flexible=True)
     models = validation_models(robot, options, progress)
+    shapes = {}
+    if isinstance(modal, ShapeData):
+        shapes = dict(points=measurement_points(modal_path, robot),
+                      shape_noise=shape_noise_pct / 100, builds=shape_builds(models, options))
     dg = diagnose(models.arm, data, noise_um * 1e-6, noise_model, poses=robot.poses,
-                  modal=modal, flexible=models.flexible, freq_noise=freq_noise_pct / 100)
+                  modal=modal, flexible=models.flexible, freq_noise=freq_noise_pct / 100,
+                  **shapes)
     sigma = data.sigma if getattr(data, "sigma", None) is not None else None
     return DiagnosisRun(dg, models, noise_um * 1e-6 if sigma is None else float(np.mean(sigma)),
                         damping)

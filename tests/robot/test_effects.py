@@ -83,8 +83,12 @@ def test_effect_record():
     assert f.params == (("lost", 1e-4), ("radius", 200.0), ("extra", 1.0))
     assert e.get("radius") == 300.0  # frozen: a new record
     assert Effect.from_dict(e.to_dict()) == e
-    assert e.to_dict() == {"kind": "hysteresis", "joint": 2,
+    assert e.to_dict() == {"kind": "hysteresis", "joint_number": 3,
                            "params": {"lost": 1e-4, "radius": 300.0}}
+    # files written before joints were numbered from 1 still read
+    assert Effect.from_dict({"kind": "hysteresis", "joint": 2,
+                             "params": {"lost": 1e-4, "radius": 300.0}}) == e
+    assert Effect.from_dict(Effect("frame", None).to_dict()).joint is None
     with pytest.raises(ValueError, match="unknown effect kind 'creep'"):
         Effect("creep", 0)
 
