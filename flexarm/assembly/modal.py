@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..fe.notebook import data_frame, span
 from ..fe.typing import FloatArray
 
 __all__ = ["Modes"]
@@ -42,6 +43,44 @@ class Modes:
     def omega(self) -> FloatArray:
         """(n,) angular frequencies [rad/s]."""
         return 2 * np.pi * self.freq_hz
+
+    def __repr__(self) -> str:
+        """One line: mode count, frequency range [Hz], damping range [%], coordinates.
+
+        Examples
+        --------
+        >>> Modes(np.array([7.5, 16.0]), np.eye(3, 2), np.zeros((6, 2)),
+        ...       np.array([0.02, 0.03]), np.full((2, 2), 0.5), ["a", "b", "c"])
+        Modes(2 modes, 7.5–16 Hz, damping 2–3 %, 3 coordinates, 2 joints)
+        """
+        return (f"Modes({len(self.freq_hz)} modes, {span(self.freq_hz, 'Hz')}, damping "
+                f"{span(np.asarray(self.damping) * 100, '%', '{:.3g}')}, "
+                f"{np.shape(self.shapes)[0]} coordinates, {np.shape(self.energy)[0]} joints)")
+
+    def to_dataframe(self, joint_names=None):
+        """``pandas.DataFrame``, one row per mode: ``mode`` (from 1), ``f_Hz``, ``zeta``
+        (damping ratio [-]) and ``energy_share_<joint>`` (share of the mode's strain
+        energy in each joint spring [-]; joints named ``joint_1`` … unless
+        ``joint_names`` is given), the columns of ``mode_energy.csv``.
+
+        Examples
+        --------
+        >>> m = Modes(np.array([7.5, 16.0]), np.eye(3, 2), np.zeros((6, 2)),
+        ...           np.array([0.02, 0.03]), np.array([[0.9, 0.2], [0.1, 0.8]]), ["a", "b"])
+        >>> m.to_dataframe().columns.tolist()
+        ['mode', 'f_Hz', 'zeta', 'energy_share_joint_1', 'energy_share_joint_2']
+        """
+        energy = np.asarray(self.energy)
+        if joint_names is None:
+            joint_names = [f"joint_{k + 1}" for k in range(energy.shape[0])]
+        if len(joint_names) != energy.shape[0]:
+            raise ValueError(f"joint_names must name {energy.shape[0]} joints, "
+                             f"got {len(joint_names)}")
+        columns = {"mode": np.arange(1, len(self.freq_hz) + 1), "f_Hz": self.freq_hz,
+                   "zeta": self.damping}
+        columns.update({f"energy_share_{n}": e for n, e in zip(joint_names, energy,
+                                                               strict=True)})
+        return data_frame(columns)
 
     def text(self, joint_names, n: int = 24) -> str:
         """Table of the first ``n`` modes: frequency [Hz], damping ratio and the energy

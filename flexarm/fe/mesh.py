@@ -13,6 +13,7 @@ from types import MappingProxyType
 import numpy as np
 
 from .errors import MeshError
+from .notebook import names
 from .structured import box_tets, promote_tet10
 from .tolerances import tol
 from .topology import TET10_EDGES, TET_FACES
@@ -75,6 +76,25 @@ class TetMesh:
         object.__setattr__(self, "points", points)
         object.__setattr__(self, "tets", tets)
         object.__setattr__(self, "node_sets", sets)
+
+    def __repr__(self) -> str:
+        """One line: element type, counts, bounding box [m], volume [m^3], node sets.
+
+        Examples
+        --------
+        >>> TetMesh.box((0.4, 0.04, 0.04), (4, 1, 1))
+        TetMesh(Tet4, 20 nodes, 24 elements, box [0, 0.4] x [0, 0.04] x [0, 0.04] m, \
+volume 0.00064 m^3)
+        """
+        kind = "Tet4" if self.order == 1 else "Tet10"
+        text = f"TetMesh({kind}, {self.n_nodes} nodes, {self.n_tets} elements"
+        if self.n_nodes:
+            lo, hi = self.bounds()
+            box = " x ".join(f"[{a:.4g}, {b:.4g}]" for a, b in zip(lo, hi, strict=True))
+            text += f", box {box} m, volume {float(self.volumes().sum()):.4g} m^3"
+        if self.node_sets:
+            text += f", node sets {names(self.node_sets)}"
+        return text + ")"
 
     # ---------------------------------------------------------------- sizes
     @property

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..fe.errors import ReadError
 from ..fe.mass_properties import MassProperties
+from ..fe.notebook import figure, names
 from ..fe.typing import FloatArray, IntArray
 from .couplings import rigid_transport
 from .tolerances import tol
@@ -24,12 +25,24 @@ __all__ = [
     "matrix_mass_properties",
     "to_arrays",
     "from_arrays",
+    "use_reader",
 ]
 
 #: Version of the superelement data layout (all formats).
 FORMAT_VERSION = 1
 
 _OPTIONAL = ("T", "surface_points", "surface_faces", "surface_nodes")
+
+#: The reader behind :meth:`Superelement.load`.  The format modules import this one, so
+#: it cannot import them: :mod:`flexarm.reduction.formats`, which the package imports
+#: before anything else, installs its ``read`` here with :func:`use_reader`.
+_READER: dict = {}
+
+
+def use_reader(read) -> None:
+    """Make ``read(path, file_format=None) -> Superelement`` the reader of
+    :meth:`Superelement.load` (called once, by :mod:`flexarm.reduction.formats`)."""
+    _READER["read"] = read
 
 
 @dataclass(frozen=True, eq=False)
@@ -111,6 +124,53 @@ class Superelement:
             v = getattr(self, f.name)
             if isinstance(v, np.ndarray):
                 v.setflags(write=False)
+
+    def __repr__(self) -> str:
+        """One line: method, coupling, DOF split per interface, first fixed-interface
+        frequencies [Hz], mass [kg].
+
+        Examples
+        --------
+        >>> from flexarm.fe import MATERIALS, TetMesh
+        >>> from flexarm.reduction import CylinderRegion, reduce_part
+        >>> mesh = TetMesh.box((0.4, 0.04, 0.04), (8, 2, 2))
+        >>> ends = [CylinderRegion(n, (x, 0.02, 0.02), (1, 0, 0), 0.0, 0.04, 1e-6)
+        ...         for n, x in (("a", 0.0), ("b", 0.4))]
+        >>> reduce_part(mesh, MATERIALS["steel"], ends, "rbe2", "cb", 4)
+        Superelement(cb, rbe2, 16 DOF: interfaces a 6, b 6; 4 modal, fixed-interface 2124, \
+2261, 5299, … Hz, mass 5.024 kg)
+        """
+        n_if = len(self.interface_names)
+        counts = np.bincount(np.asarray(self.node_interface, dtype=np.int64).ravel(),
+                             minlength=n_if)[:n_if] * self.dofs_per_node
+        pairs = [f"{n} {c}" for n, c in zip(self.interface_names, counts.tolist(), strict=True)]
+        freqs = ", ".join(figure(f) for f in np.asarray(self.freq_hz)[:3])
+        more = ", …" if self.n_modes > 3 else ""
+        modes = f"; {self.n_modes} modal" + (f", fixed-interface {freqs}{more} Hz"
+                                             if self.n_modes else "")
+        return (f"Superelement({self.method}, {self.coupling}, {self.n_dofs} DOF: interfaces "
+                f"{names(pairs)}{modes}, mass {self.mass:.4g} kg)")
+
+    @classmethod
+    def load(cls, path, file_format: str | None = None) -> Superelement:
+        """Read a superelement file in any registered format (HDF5, NPZ, a Matrix Market
+        bundle, DMIG), through :func:`flexarm.reduction.formats.read`, the reader of
+        ``flexarm show`` and ``flexarm convert``.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> from flexarm.fe import MATERIALS, TetMesh
+        >>> from flexarm.reduction import CylinderRegion, formats, reduce_part
+        >>> mesh = TetMesh.box((0.4, 0.04, 0.04), (4, 1, 1))
+        >>> ends = [CylinderRegion(n, (x, 0.02, 0.02), (1, 0, 0), 0.0, 0.04, 1e-6)
+        ...         for n, x in (("a", 0.0), ("b", 0.4))]
+        >>> se = reduce_part(mesh, MATERIALS["steel"], ends, "rbe2", "cb", 2)
+        >>> path = formats.write(pathlib.Path(tempfile.mkdtemp()) / "bar.npz", se)
+        >>> bool((Superelement.load(path).K == se.K).all())
+        True
+        """
+        return _READER["read"](path, file_format)
 
     # ----------------------------------------------------------------- sizes
     @property

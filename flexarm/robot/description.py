@@ -198,6 +198,41 @@ class Robot:
     def joint_names(self) -> tuple[str, ...]:
         return tuple(j.name for j in self.joints)
 
+    def __repr__(self) -> str:
+        """One line: name, links, joints, pose names, mesh size [mm], element order, mesher.
+
+        Examples
+        --------
+        >>> from flexarm.robot import load_robot
+        >>> load_robot()  # doctest: +ELLIPSIS
+        Robot('...', 7 links, 6 joints, poses P1, ..., mesh 30 mm Tet4 (...), 10 CB modes, \
+base clamped)
+        """
+        from ..fe.notebook import names
+
+        opts = self.options
+        return (f"Robot({self.name!r}, {len(self.links)} links, {len(self.joints)} joints, "
+                f"poses {names(self.poses) or 'none'}, mesh {opts.mesh_size * 1e3:.4g} mm "
+                f"Tet{4 if opts.element_order == 1 else 10} ({opts.mesher}), "
+                f"{opts.cb_modes} CB modes, base {self.base.kind})")
+
+    def full_repr(self) -> str:
+        """Every field as the dataclass repr writes it (the text cache keys hash; ``repr``
+        is the short notebook line).
+
+        Examples
+        --------
+        >>> from flexarm.robot import load_robot
+        >>> text = load_robot().full_repr()
+        >>> text.startswith("Robot(name="), "stiffness=" in text
+        (True, True)
+        """
+        import dataclasses
+
+        return (f"{type(self).__qualname__}(" + ", ".join(
+            f"{f.name}={getattr(self, f.name)!r}" for f in dataclasses.fields(self) if f.repr)
+            + ")")
+
     @property
     def lower(self) -> FloatArray:
         return np.array([j.lower for j in self.joints])

@@ -97,7 +97,7 @@ def reference_result(robot: Robot, q, mesh_size: float, coupling: str = "rbe2",
     meshes = [None if lk.mesh is None and mesher is None else
               link_mesh_id(lk, mesher or robot.options.mesher, opts.mesh_size, opts.order)
               for lk in robot.links]
-    key = cache_key("study-reference", STUDY_VERSION, repr(robot), q, opts.mesh_size,
+    key = cache_key("study-reference", STUDY_VERSION, robot.full_repr(), q, opts.mesh_size,
                     opts.order, opts.tcp, coupling, n_freq, meshes)
 
     def compute() -> dict:

@@ -11,6 +11,7 @@ import numpy as np
 from ..assembly.analyses import gravity_sag, identify_stiffness, tcp_compliance
 from ..assembly.system import ArmModel
 from ..fe.files import atomic_path
+from ..fe.notebook import data_frame
 from ..fe.typing import ArrayLike, FloatArray
 
 __all__ = ["ComplianceReport", "compliance_report"]
@@ -53,6 +54,35 @@ class ComplianceReport:
     def weakest(self) -> str:
         """The least stiff translation direction: ``"x"``, ``"y"`` or ``"z"``."""
         return _XYZ[int(np.argmax(np.diag(self.C)[:3]))]
+
+    def __repr__(self) -> str:
+        """One line: deflections under ``force`` [mm], the least stiff direction, the
+        largest error of the diagonal stiffness model [%] and the gravity sag [mm]."""
+        defl = ", ".join(f"{d} {v * 1e3:.4g}" for d, v in zip(_XYZ, self.deflection,
+                                                               strict=True))
+        sag = ", ".join(f"{d} {v * 1e3:.4g}" for d, v in zip(_XYZ, self.sag[:3], strict=True))
+        return (f"ComplianceReport(deflection under {self.force:g} N: {defl} mm; weakest "
+                f"{self.weakest}; diagonal-model error up to "
+                f"{np.abs(self.error_diag).max() * 100:.3g} %; gravity sag {sag} mm)")
+
+    def to_dataframe(self):
+        """``pandas.DataFrame``, one row per translation direction x, y, z (base frame):
+
+        ``direction``; ``C_x_m_per_N`` … (its row of the translational compliance
+        [m/N]); ``deflection_mm`` under ``force_N``; ``K_x_N_per_m`` … (its row of the
+        identified stiffness, eq. 3.12); ``K_diag_N_per_m`` (the diagonal model, eq.
+        3.9); ``error_diag`` (relative error of that model for the load case along the
+        direction [-]); ``sag_mm`` (gravity sag along the direction).
+        """
+        columns = {"direction": list(_XYZ)}
+        columns.update({f"C_{d}_m_per_N": self.C[:3, j] for j, d in enumerate(_XYZ)})
+        columns["force_N"] = np.full(3, self.force)
+        columns["deflection_mm"] = self.deflection * 1e3
+        columns.update({f"K_{d}_N_per_m": self.K_full[:, j] for j, d in enumerate(_XYZ)})
+        columns["K_diag_N_per_m"] = np.diag(self.K_diag)
+        columns["error_diag"] = self.error_diag
+        columns["sag_mm"] = self.sag[:3] * 1e3
+        return data_frame(columns)
 
     def text(self) -> str:
         """The report as the ``compliance`` command prints it (mm, N, mm/kN, N/mm)."""
@@ -97,6 +127,8 @@ def compliance_report(arm: ArmModel, q: ArrayLike, force: float = 800.0) -> Comp
     >>> rep = compliance_report(emodel(robot), robot.pose("P1"))
     >>> rep.weakest, round(float(rep.deflection[1]) * 1e3, 1)  # [mm] at 800 N
     ('y', 6.2)
+    >>> rep.to_dataframe().set_index("direction")["deflection_mm"].round(1).tolist()
+    [0.1, 6.2, 1.5]
     """
     C = tcp_compliance(arm, q)
     ident = identify_stiffness(arm, q, force * np.eye(3))

@@ -13,16 +13,23 @@ The constructors check shapes only.  The file readers check the meaning as well
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, fields
 
 import numpy as np
 
+from ..fe.notebook import names, span
 from ..fe.typing import FloatArray, IntArray
 
-__all__ = ["StaticData", "ModalData", "FrfData", "PathData", "DIRECTIONS"]
+__all__ = ["StaticData", "ModalData", "FrfData", "PathData", "DIRECTIONS", "TABLES"]
 
 #: Allowed FRF input/output directions (base frame), in axis order.
 DIRECTIONS = ("x", "y", "z")
+
+#: Data class -> ``to_dataframe(data)`` of its file kind, filled by
+#: :func:`flexarm.validation.formats.register_kind` when the package is imported (the
+#: file kinds import this module, so it cannot import them).
+TABLES: dict[type, Callable] = {}
 
 
 def _array(obj, name: str, value, dtype, tail: tuple[int, ...], n: int | None,
@@ -84,6 +91,19 @@ class _Arrays:
         """Number of measurement rows."""
         return len(getattr(self, fields(self)[0].name))
 
+    def _optional(self) -> str:
+        """``", with moment, rot"``: the optional fields present."""
+        present = [f.name for f in fields(self)
+                   if f.default is None and getattr(self, f.name) is not None]
+        return f", with {', '.join(present)}" if present else ""
+
+    def to_dataframe(self):
+        """``pandas.DataFrame``, one row per reading, with the columns and units of the
+        file writer (``q1_deg``, ``fx_N``, ``dx_mm``, ``freq_Hz``, ``re_m_per_N``, …;
+        see :mod:`flexarm.validation.formats`)."""
+        table = next(TABLES[c] for c in type(self).__mro__ if c in TABLES)
+        return table(self)
+
 
 @dataclass(frozen=True, eq=False)
 class StaticData(_Arrays):
@@ -117,6 +137,10 @@ class StaticData(_Arrays):
     (2, {'a': slice(0, 2, None), 'b': slice(2, 3, None)})
     >>> d.reference_rows().tolist()
     [0, 2]
+    >>> d
+    StaticData(3 readings, 2 series a, b, 1 pose, load 0–100 N, displacement up to 0 mm)
+    >>> d.to_dataframe()[["series", "step", "fy_N", "dy_mm"]].values.tolist()
+    [['a', 0, 0.0, 0.0], ['a', 1, 100.0, 0.0], ['b', 0, 0.0, 0.0]]
     """
 
     series: np.ndarray
@@ -153,6 +177,14 @@ class StaticData(_Arrays):
     def n_series(self) -> int:
         """Number of series."""
         return len(self.reference_rows())
+
+    def __repr__(self) -> str:
+        n_poses = len(np.unique(self.q, axis=0))
+        disp = np.linalg.norm(self.disp, axis=1).max(initial=0.0) * 1e3
+        return (f"StaticData({self.n_rows} readings, {self.n_series} series "
+                f"{names(self.series_slices())}, {n_poses} pose{'s' * (n_poses != 1)}, "
+                f"load {span(np.linalg.norm(self.force, axis=1), 'N')}, displacement up to "
+                f"{disp:.4g} mm{self._optional()})")
 
 
 class _Posed(_Arrays):
@@ -193,6 +225,10 @@ class ModalData(_Posed):
     ...               freq_hz=[12.5, 17.0])
     >>> m.n_poses, m.omega.round(2).tolist()
     (1, [78.54, 106.81])
+    >>> m
+    ModalData(2 modes at 1 pose p1, modes 1–2, 12.5–17 Hz)
+    >>> m.to_dataframe()[["pose", "mode", "freq_Hz"]].values.tolist()
+    [['p1', 1, 12.5], ['p1', 2, 17.0]]
     """
 
     poses: np.ndarray
@@ -212,6 +248,13 @@ class ModalData(_Posed):
     def omega(self) -> FloatArray:
         """(n,) float: angular frequencies [rad/s]."""
         return 2 * np.pi * self.freq_hz
+
+    def __repr__(self) -> str:
+        zeta = self.damping_ratio
+        damping = "" if zeta is None else f", damping {span(zeta * 100, '%', '{:.3g}')}"
+        return (f"{type(self).__name__}({self.n_rows} modes at {self.n_poses} "
+                f"pose{'s' * (self.n_poses != 1)} {names(self.pose_labels())}, modes "
+                f"{span(self.modes, fmt='{:.0f}')}, {span(self.freq_hz, 'Hz')}{damping})")
 
 
 @dataclass(frozen=True, eq=False)
@@ -238,6 +281,10 @@ class FrfData(_Posed):
     ...             freq_hz=[10.0], receptance=[1e-6 - 2e-7j])
     >>> f.input_axes.tolist(), f.output_axes.tolist()
     ([1], [2])
+    >>> f
+    FrfData(1 frequency line at 1 pose p1, paths y->z, 10 Hz, |H| up to 1.02e-06 m/N)
+    >>> f.to_dataframe()[["freq_Hz", "re_m_per_N", "im_m_per_N"]].values.tolist()
+    [[10.0, 1e-06, -2e-07]]
     """
 
     poses: np.ndarray
@@ -255,7 +302,7 @@ class FrfData(_Posed):
             bad = ~np.isin(getattr(self, name), DIRECTIONS)
             if bad.any():
                 raise ValueError(f"FrfData.{name} must be among {', '.join(DIRECTIONS)}, "
-                                 f"got {getattr(self, name)[bad][0]!r}")
+                                 f"got {str(getattr(self, name)[bad][0])!r}")
         _array(self, "freq_hz", self.freq_hz, np.float64, (), n)
         _array(self, "receptance", self.receptance, np.complex128, (), n)
 
@@ -268,6 +315,14 @@ class FrfData(_Posed):
     def output_axes(self) -> IntArray:
         """(n,) int: output direction as axis index 0, 1, 2."""
         return np.searchsorted(np.array(DIRECTIONS), self.outputs).astype(np.int64)
+
+    def __repr__(self) -> str:
+        paths = dict.fromkeys(f"{i}->{o}" for i, o in zip(self.inputs.tolist(),
+                                                          self.outputs.tolist(), strict=True))
+        h = np.abs(self.receptance).max(initial=0.0)
+        return (f"FrfData({self.n_rows} frequency line{'s' * (self.n_rows != 1)} at "
+                f"{self.n_poses} pose{'s' * (self.n_poses != 1)} {names(self.pose_labels())}, "
+                f"paths {names(paths)}, {span(self.freq_hz, 'Hz')}, |H| up to {h:.3g} m/N)")
 
 
 @dataclass(frozen=True, eq=False)
@@ -289,6 +344,8 @@ class PathData(_Arrays):
     ...              force=[400.0, 400.0])
     >>> p.n_rows
     2
+    >>> p
+    PathData(2 readings, force 400 N, span 10 mm)
     """
 
     steps: IntArray
@@ -299,3 +356,8 @@ class PathData(_Arrays):
         n = _array(self, "steps", self.steps, np.int64, (), None)
         _array(self, "points", self.points, np.float64, (3,), n)
         _array(self, "force", self.force, np.float64, (), n)
+
+    def __repr__(self) -> str:
+        extent = np.ptp(self.points, axis=0).max(initial=0.0) * 1e3 if self.n_rows else 0.0
+        return (f"PathData({self.n_rows} readings, force {span(self.force, 'N')}, "
+                f"span {extent:.4g} mm)")

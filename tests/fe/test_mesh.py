@@ -113,3 +113,20 @@ def test_to_tet4_renumbers_and_drops_mid_nodes_from_sets():
     np.testing.assert_allclose(t4.volumes(), mesh.to_tet4().volumes())
     np.testing.assert_array_equal(np.sort(t4.points[t4.node_sets["mixed"]], axis=0),
                                   np.sort(mesh.points[[0, 7]], axis=0))
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_repr_is_one_short_line_with_the_mesh_figures(order):
+    mesh = TetMesh.box((0.9, 0.4, 0.6), (12, 6, 8), order=order, origin=(0.1, -0.2, 0.0))
+    mesh = mesh.with_node_sets({f"set{k}": [k] for k in range(9)})
+    text = repr(mesh)
+    assert len(text) < 300 and "\n" not in text and "array" not in text
+    assert text.startswith(f"TetMesh(Tet{4 if order == 1 else 10}, {mesh.n_nodes} nodes, "
+                           f"{mesh.n_tets} elements, box ")
+    box = text.split("box ")[1].split(" m,")[0]
+    bounds = [[float(v) for v in b.strip("[]").split(", ")] for b in box.split(" x ")]
+    assert np.allclose(np.array(bounds).T, mesh.bounds(), rtol=1e-4)
+    volume = float(text.split("volume ")[1].split(" m^3")[0])
+    assert volume == pytest.approx(0.9 * 0.4 * 0.6, rel=1e-4)
+    assert "node sets set0, set1, set2, set3, … (+5)" in text
+    assert mesh == mesh and mesh != TetMesh.box((0.9, 0.4, 0.6), (12, 6, 8))  # identity ==

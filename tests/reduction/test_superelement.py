@@ -1,3 +1,5 @@
+import dataclasses
+
 import numpy as np
 import pytest
 import scipy.linalg as sla
@@ -65,3 +67,49 @@ def test_same_inputs_same_hash(bar):
     b = reduce_part(mesh, STEEL, regions, "rbe2", "cb", 3, matrices=KM)
     c = reduce_part(mesh, STEEL, regions, "rbe2", "cb", 4, matrices=KM)
     assert a.input_hash == b.input_hash != c.input_hash
+
+
+def test_repr_is_short_and_states_the_figures(bar):
+    mesh, regions, KM = bar
+    se = reduce_part(mesh, STEEL, regions, "rbe3", "cb", 5, matrices=KM)
+    text = repr(se)
+    assert len(text) < 300 and "\n" not in text
+    assert text.startswith(f"Superelement(cb, rbe3, {se.n_dofs} DOF: interfaces a 6, b 6; "
+                           f"{se.n_modes} modal")
+    listed = text.split("fixed-interface ")[1].split(" Hz")[0].split(", ")
+    assert [float(f) for f in listed[:3]] == pytest.approx(se.freq_hz[:3], rel=5e-4)
+    assert listed[3] == "…" and f"mass {se.mass:.4g} kg" in text
+
+
+@pytest.mark.parametrize("ext", ["h5", "npz", "mtx"])
+def test_load_reads_every_format_like_the_registry(bar, tmp_path, ext):
+    from flexarm.reduction import formats
+    from flexarm.reduction.superelement import Superelement
+
+    mesh, regions, KM = bar
+    se = reduce_part(mesh, STEEL, regions, "rbe2", "cb", 4, matrices=KM)
+    path = formats.write(tmp_path / f"link.{ext}", se)
+    loaded = Superelement.load(path)
+    # Matrix Market bundles hold matrices and interfaces, not T or the surface mesh
+    kept = [f for f in dataclasses.fields(se)
+            if ext != "mtx" or f.name not in ("T", "surface_points", "surface_faces",
+                                              "surface_nodes")]
+    for f in kept:
+        a, b = getattr(se, f.name), getattr(loaded, f.name)
+        if isinstance(a, np.ndarray):
+            assert a.dtype == b.dtype and np.array_equal(a, b), f.name
+        else:
+            assert a == b, f.name
+    assert repr(loaded) == repr(se)
+
+
+def test_load_names_the_file_it_cannot_read(tmp_path):
+    from flexarm.fe.errors import ReadError
+    from flexarm.reduction.superelement import Superelement
+
+    bad = tmp_path / "junk.npz"
+    bad.write_bytes(b"not a zip")
+    with pytest.raises(ReadError, match="junk.npz"):
+        Superelement.load(bad)
+    with pytest.raises(ValueError, match="unknown superelement extension"):
+        Superelement.load(tmp_path / "link.xyz")

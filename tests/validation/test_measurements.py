@@ -636,3 +636,100 @@ def test_series_helpers():
     assert d.series_slices() == {"x": slice(0, 3), "y": slice(3, 4)}
     assert d.reference_rows().tolist() == [0, 3] and d.n_series == 2 and d.n_rows == 4
     assert d.series.dtype.kind == "U" and d.steps.dtype == np.int64
+
+
+# ---------------------------------------------------------------- notebook use
+
+@pytest.mark.parametrize(("make", "write"), [
+    (_random_static, write_static), (_random_modal, write_modal), (_random_frf, write_frf),
+    (_random_path, write_path),
+])
+def test_dataframe_equals_the_written_file(tmp_path, make, write):
+    pd = pytest.importorskip("pandas")
+    data = make(np.random.default_rng(5))
+    frame = data.to_dataframe()
+    assert len(frame) == data.n_rows
+    path = write(tmp_path / "x.csv", data)
+    file = pd.read_csv(path, comment="#", keep_default_na=False,
+                       float_precision="round_trip")
+    assert frame.columns.tolist() == file.columns.tolist()
+    for name in frame.columns:
+        a, b = frame[name].to_numpy(), file[name].to_numpy()
+        if a.dtype.kind == "f":
+            assert np.allclose(a, b, rtol=1e-13, atol=0), name
+        else:
+            assert a.astype(str).tolist() == b.astype(str).tolist(), name
+
+
+def test_static_dataframe_units():
+    pytest.importorskip("pandas")
+    d = _random_static(np.random.default_rng(8))
+    f = d.to_dataframe()
+    assert f.columns.tolist()[:14] == STATIC_HEADER
+    assert f["series"].tolist() == d.series.tolist() and f["step"].tolist() == d.steps.tolist()
+    for k, c in enumerate("xyz"):
+        assert np.allclose(f[f"d{c}_mm"], 1e3 * d.disp[:, k], rtol=1e-15, atol=0)
+        assert np.allclose(f[f"r{c}_mrad"], 1e3 * d.rot[:, k], rtol=1e-15, atol=0)
+        assert np.array_equal(f[f"f{c}_N"], d.force[:, k])
+        assert np.array_equal(f[f"m{c}_Nm"], d.moment[:, k])
+    assert np.allclose(f[[f"q{j}_deg" for j in range(1, 7)]], np.degrees(d.q), rtol=1e-14)
+    assert np.allclose(f["sigma_mm"], 1e3 * d.sigma, rtol=1e-15)
+
+
+def test_frf_dataframe_units():
+    pytest.importorskip("pandas")
+    d = _random_frf(np.random.default_rng(9))
+    f = d.to_dataframe()
+    assert f.columns.tolist() == FRF_HEADER
+    assert np.array_equal(f["re_m_per_N"] + 1j * f["im_m_per_N"], d.receptance)  # m/N as is
+    assert np.array_equal(f["freq_Hz"], d.freq_hz)
+    assert f["input"].tolist() == d.inputs.tolist() and f["output"].tolist() == list("xyzz")
+
+
+def _figure(text: str, before: str, after: str) -> str:
+    return text.split(before, 1)[1].split(after, 1)[0]
+
+
+def test_static_repr_is_short_for_a_large_set():
+    rng = np.random.default_rng(4)
+    n_series, per = 400, 15
+    steps = np.tile(np.arange(per), n_series)
+    disp = rng.normal(size=(n_series * per, 3)) * 1e-3
+    disp[steps == 0] = 0.0
+    force = np.zeros((n_series * per, 3))
+    force[:, 1] = np.tile(np.linspace(0, 800, per), n_series)
+    q = np.repeat(rng.uniform(-1, 1, size=(n_series // 4, 6)), 4 * per, axis=0)
+    d = StaticData(series=np.repeat([f"series {k}" for k in range(n_series)], per),
+                   steps=steps, q=q, force=force, disp=disp,
+                   sigma=np.full(n_series * per, 1e-5))
+    text = repr(d)
+    assert len(text) < 300 and "\n" not in text
+    assert text.startswith(f"StaticData({n_series * per} readings, {n_series} series ")
+    assert f"… (+{n_series - 4}), {n_series // 4} poses, load 0–800 N" in text
+    top = float(_figure(text, "displacement up to ", " mm"))
+    assert top == pytest.approx(1e3 * np.linalg.norm(disp, axis=1).max(), rel=1e-3)
+    assert text.endswith("with sigma)")
+
+
+@pytest.mark.parametrize("kind", ["static", "modal", "frf", "path"])
+def test_reprs_of_the_shipped_examples(kind):
+    d = read_measurements(example_path(kind))
+    text = repr(d)
+    assert len(text) < 300 and "\n" not in text and "array" not in text
+    assert text.startswith(f"{type(d).__name__}({d.n_rows} ")
+    if kind == "modal":
+        lo, hi = _figure(text, "modes 1–3, ", " Hz").split("–")
+        assert (float(lo), float(hi)) == pytest.approx((d.freq_hz.min(), d.freq_hz.max()),
+                                                       rel=1e-3)
+        assert f"at {d.n_poses} poses {', '.join(d.pose_labels())}," in text
+    if kind == "frf":
+        assert "paths y->y, y->x," in text
+        h = float(_figure(text, "|H| up to ", " m/N"))
+        assert h == pytest.approx(np.abs(d.receptance).max(), rel=1e-3)
+
+
+def test_repr_of_the_shipped_lab_campaign_is_short():
+    from importlib.resources import files
+
+    text = repr(read_measurements(files("flexarm") / "data" / "lab" / "lab_hidden_effect.csv"))
+    assert len(text) < 300 and text.startswith("StaticData(162 readings, 18 series")

@@ -2,6 +2,7 @@
 found by extension or name through ``registry``."""
 
 from ...fe.formats import FormatRegistry
+from ..superelement import use_reader
 from . import dmig, h5, mtx, npz, op4
 
 #: The superelement formats (:class:`~flexarm.fe.formats.FormatRegistry`).
@@ -80,5 +81,7 @@ def format_of(path, file_format: str | None = None) -> str:
     raises ``ValueError`` before any work)."""
     return registry.format_of(path, file_format).name
 
+
+use_reader(read)  # Superelement.load reads through the same registry
 
 __all__ = ["registry", "read", "write", "format_of", "convert"]

@@ -1,13 +1,15 @@
 """Kinds of measurement file, recognised from their columns (like meshio's registry).
 
 Each kind module exposes ``SCHEMA``, ``DATA`` (its dataclass), ``from_table``,
-``read(path, limits=None)`` and ``write(path, data, comments=())``.
+``read(path, limits=None)``, ``write(path, data, comments=())`` and
+``to_dataframe(data)`` (the table of what ``write`` writes).
 """
 
 from __future__ import annotations
 
 from types import ModuleType
 
+from ..measurements import TABLES
 from ._table import Field, MeasurementFileError, Table
 
 __all__ = ["KINDS", "register_kind", "vocabulary", "detect_kind"]
@@ -17,8 +19,10 @@ KINDS: dict[str, ModuleType] = {}
 
 
 def register_kind(module: ModuleType) -> None:
-    """Register a kind module (its ``SCHEMA.kind`` is the name)."""
+    """Register a kind module (its ``SCHEMA.kind`` is the name); its ``to_dataframe``
+    becomes the ``to_dataframe()`` method of its data class."""
     KINDS[module.SCHEMA.kind] = module
+    TABLES[module.DATA] = module.to_dataframe
 
 
 def vocabulary() -> dict[str, Field]:

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ...fe.files import atomic_path
+from ...fe.notebook import data_frame
 from ...fe.typing import IntArray, PathType
 from ..measurements import DIRECTIONS
 from ..units import (
@@ -31,7 +32,7 @@ from ..units import (
 from ._lines import MeasurementFileError, column_texts, fields, records
 
 __all__ = ["MeasurementFileError", "Field", "Schema", "Table", "read_table", "write_table",
-           "label_problem", "joints", "vector"]
+           "table_frame", "label_problem", "joints", "vector"]
 
 #: Largest magnitude [SI] a measured value of each quantity may have: beyond it the unit
 #: or the export is wrong (1e300 mm, a force in mN read as N), and the analysis would
@@ -395,3 +396,14 @@ def write_table(path: PathType, schema: Schema, values: dict[str, np.ndarray],
             writer.writerow([f.canonical for f in present])
             writer.writerows(zip(*texts, strict=True))
     return Path(path)
+
+
+def table_frame(schema: Schema, values: dict[str, np.ndarray]):
+    """``pandas.DataFrame`` of ``values`` (base -> (n,) array in SI) with the columns
+    :func:`write_table` writes: schema order, canonical names and units (``dx_mm``)."""
+    present = [f for f in schema.fields if values.get(f.base) is not None]
+    columns = {}
+    for f in present:
+        v = np.asarray(values[f.base])
+        columns[f.canonical] = v * float(1 / f.factor) if f.type == "real" else v
+    return data_frame(columns)

@@ -16,9 +16,9 @@ import numpy as np
 from ...fe.typing import ArrayLike, PathType
 from ..measurements import FrfData
 from ._checks import check_limits, check_positive, check_same_pose, check_unique
-from ._table import Field, Schema, Table, joints, read_table, write_table
+from ._table import Field, Schema, Table, joints, read_table, table_frame, write_table
 
-__all__ = ["SCHEMA", "DATA", "from_table", "read", "write"]
+__all__ = ["SCHEMA", "DATA", "from_table", "read", "write", "values", "to_dataframe"]
 
 SCHEMA = Schema("frf", (
     Field("pose", "label"), *joints(), Field("input", "direction"),
@@ -49,9 +49,19 @@ def read(path: PathType, limits: ArrayLike | None = None) -> FrfData:
     return from_table(read_table(path, SCHEMA.vocabulary), limits)
 
 
+def values(data: FrfData) -> dict[str, np.ndarray]:
+    """Column base -> (n,) values in SI."""
+    out = {"pose": data.poses, "input": data.inputs, "output": data.outputs,
+           "freq": data.freq_hz, "re": data.receptance.real, "im": data.receptance.imag}
+    out.update({f"q{j + 1}": data.q[:, j] for j in range(6)})
+    return out
+
+
 def write(path: PathType, data: FrfData, comments=()) -> Path:
     """Write ``data`` in canonical units (deg, Hz, m/N), atomically."""
-    values = {"pose": data.poses, "input": data.inputs, "output": data.outputs,
-              "freq": data.freq_hz, "re": data.receptance.real, "im": data.receptance.imag}
-    values.update({f"q{j + 1}": data.q[:, j] for j in range(6)})
-    return write_table(path, SCHEMA, values, comments)
+    return write_table(path, SCHEMA, values(data), comments)
+
+
+def to_dataframe(data: FrfData):
+    """``pandas.DataFrame`` with the columns and units :func:`write` writes."""
+    return table_frame(SCHEMA, values(data))

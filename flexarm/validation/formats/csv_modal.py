@@ -23,9 +23,10 @@ from ...fe.typing import ArrayLike, PathType
 from ..measurements import ModalData
 from ..shape_data import ShapeData
 from ._checks import check_limits, check_positive, check_same_pose, check_unique
-from ._table import Field, Schema, Table, joints, read_table, write_table
+from ._table import Field, Schema, Table, joints, read_table, table_frame, write_table
 
-__all__ = ["SCHEMA", "SHAPES_SCHEMA", "DATA", "from_table", "read", "write"]
+__all__ = ["SCHEMA", "SHAPES_SCHEMA", "DATA", "from_table", "read", "write", "values",
+           "to_dataframe"]
 
 SCHEMA = Schema("modal", (
     Field("pose", "label"), *joints(), Field("mode", "int"),
@@ -132,9 +133,8 @@ def read(path: PathType, limits: ArrayLike | None = None) -> ModalData:
     return from_table(read_table(path, SHAPES_SCHEMA.vocabulary), limits)
 
 
-def write(path: PathType, data: ModalData, comments=()) -> Path:
-    """Write ``data`` in canonical units (deg, Hz), atomically; a
-    :class:`~flexarm.validation.shape_data.ShapeData` as one row per DOF."""
+def values(data: ModalData) -> dict[str, np.ndarray | None]:
+    """Column base -> values in SI, one row per mode (per DOF for a ``ShapeData``)."""
     rows, extra = np.arange(len(data.poses)), {}
     if isinstance(data, ShapeData):
         m = data.n_dofs
@@ -144,7 +144,18 @@ def write(path: PathType, data: ModalData, comments=()) -> Path:
                  "dir": np.tile(data.dirs, len(data.poses)), "phi": phi.real,
                  "phi_im": phi.imag if np.iscomplexobj(phi) else None}
     zeta = data.damping_ratio
-    values = {"pose": data.poses[rows], "mode": data.modes[rows], "freq": data.freq_hz[rows],
-              "damping_ratio": None if zeta is None else zeta[rows], **extra}
-    values.update({f"q{j + 1}": data.q[rows, j] for j in range(6)})
-    return write_table(path, SHAPES_SCHEMA, values, comments)
+    out = {"pose": data.poses[rows], "mode": data.modes[rows], "freq": data.freq_hz[rows],
+           "damping_ratio": None if zeta is None else zeta[rows], **extra}
+    out.update({f"q{j + 1}": data.q[rows, j] for j in range(6)})
+    return out
+
+
+def write(path: PathType, data: ModalData, comments=()) -> Path:
+    """Write ``data`` in canonical units (deg, Hz), atomically; a
+    :class:`~flexarm.validation.shape_data.ShapeData` as one row per DOF."""
+    return write_table(path, SHAPES_SCHEMA, values(data), comments)
+
+
+def to_dataframe(data: ModalData):
+    """``pandas.DataFrame`` with the columns and units :func:`write` writes."""
+    return table_frame(SHAPES_SCHEMA, values(data))

@@ -13,9 +13,9 @@ import numpy as np
 from ...fe.typing import ArrayLike, PathType
 from ..measurements import PathData
 from ._checks import check_increasing
-from ._table import Field, Schema, Table, read_table, vector, write_table
+from ._table import Field, Schema, Table, read_table, table_frame, vector, write_table
 
-__all__ = ["SCHEMA", "DATA", "from_table", "read", "write"]
+__all__ = ["SCHEMA", "DATA", "from_table", "read", "write", "values", "to_dataframe"]
 
 SCHEMA = Schema("path", (
     Field("step", "int"), *vector("", "length", "mm"), Field("f", "real", "force", "N"),
@@ -37,8 +37,18 @@ def read(path: PathType, limits: ArrayLike | None = None) -> PathData:
     return from_table(read_table(path, SCHEMA.vocabulary), limits)
 
 
+def values(data: PathData) -> dict[str, np.ndarray]:
+    """Column base -> (n,) values in SI."""
+    out = {"step": data.steps, "f": data.force}
+    out.update({c: data.points[:, k] for k, c in enumerate("xyz")})
+    return out
+
+
 def write(path: PathType, data: PathData, comments=()) -> Path:
     """Write ``data`` in canonical units (mm, N), atomically."""
-    values = {"step": data.steps, "f": data.force}
-    values.update({c: data.points[:, k] for k, c in enumerate("xyz")})
-    return write_table(path, SCHEMA, values, comments)
+    return write_table(path, SCHEMA, values(data), comments)
+
+
+def to_dataframe(data: PathData):
+    """``pandas.DataFrame`` with the columns and units :func:`write` writes."""
+    return table_frame(SCHEMA, values(data))

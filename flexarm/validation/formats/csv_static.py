@@ -25,9 +25,9 @@ import numpy as np
 from ...fe.typing import ArrayLike, PathType
 from ..measurements import StaticData, first_rows
 from ._checks import check_contiguous, check_increasing, check_limits, check_positive
-from ._table import Field, Schema, Table, joints, read_table, vector, write_table
+from ._table import Field, Schema, Table, joints, read_table, table_frame, vector, write_table
 
-__all__ = ["SCHEMA", "DATA", "from_table", "read", "write"]
+__all__ = ["SCHEMA", "DATA", "from_table", "read", "write", "values", "to_dataframe"]
 
 SCHEMA = Schema("static", (
     Field("series", "label"), Field("step", "int"), *joints(),
@@ -75,12 +75,22 @@ def read(path: PathType, limits: ArrayLike | None = None) -> StaticData:
     return from_table(read_table(path, SCHEMA.vocabulary), limits)
 
 
-def write(path: PathType, data: StaticData, comments=()) -> Path:
-    """Write ``data`` in canonical units (mm, N, deg, N m, mrad), atomically."""
-    values = {"series": data.series, "step": data.steps, "sigma": data.sigma}
-    values.update({f"q{j + 1}": data.q[:, j] for j in range(6)})
+def values(data: StaticData) -> dict[str, np.ndarray | None]:
+    """Column base -> (n,) values in SI (None: optional column absent)."""
+    out = {"series": data.series, "step": data.steps, "sigma": data.sigma}
+    out.update({f"q{j + 1}": data.q[:, j] for j in range(6)})
     for prefix, arr in (("f", data.force), ("d", data.disp), ("m", data.moment),
                         ("r", data.rot)):
-        values.update({prefix + c: None if arr is None else arr[:, k]
-                       for k, c in enumerate("xyz")})
-    return write_table(path, SCHEMA, values, comments)
+        out.update({prefix + c: None if arr is None else arr[:, k]
+                    for k, c in enumerate("xyz")})
+    return out
+
+
+def write(path: PathType, data: StaticData, comments=()) -> Path:
+    """Write ``data`` in canonical units (mm, N, deg, N m, mrad), atomically."""
+    return write_table(path, SCHEMA, values(data), comments)
+
+
+def to_dataframe(data: StaticData):
+    """``pandas.DataFrame`` with the columns and units :func:`write` writes."""
+    return table_frame(SCHEMA, values(data))

@@ -1,0 +1,47 @@
+"""ComplianceReport (flexarm/studies/compliance.py) in a notebook: repr and table."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from flexarm.assembly import emodel
+from flexarm.robot import load_robot
+from flexarm.studies.compliance import compliance_report
+
+
+@pytest.fixture(scope="module")
+def report():
+    robot = load_robot()
+    return compliance_report(emodel(robot), robot.pose("P1"), force=500.0)
+
+
+def test_repr_states_deflections_and_sag(report):
+    text = repr(report)
+    assert len(text) < 300 and "\n" not in text
+    defl = text.split("deflection under 500 N: ")[1].split(" mm;")[0].split(", ")
+    assert [d.split()[0] for d in defl] == ["x", "y", "z"]
+    assert [float(d.split()[1]) for d in defl] == pytest.approx(1e3 * report.deflection,
+                                                                rel=1e-3)
+    assert f"weakest {report.weakest};" in text
+    err = float(text.split("error up to ")[1].split(" %")[0])
+    assert err == pytest.approx(100 * np.abs(report.error_diag).max(), rel=1e-2)
+    sag = text.split("gravity sag ")[1].removesuffix(" mm)").split(", ")
+    assert [float(s.split()[1]) for s in sag] == pytest.approx(1e3 * report.sag[:3],
+                                                               rel=1e-3)
+
+
+def test_dataframe_one_row_per_direction(report):
+    pytest.importorskip("pandas")
+    f = report.to_dataframe().set_index("direction")
+    assert f.index.tolist() == ["x", "y", "z"]
+    C = f[["C_x_m_per_N", "C_y_m_per_N", "C_z_m_per_N"]].to_numpy()
+    assert np.array_equal(C, report.C[:3, :3])
+    K = f[["K_x_N_per_m", "K_y_N_per_m", "K_z_N_per_m"]].to_numpy()
+    assert np.array_equal(K, report.K_full)
+    assert np.array_equal(f["K_diag_N_per_m"], np.diag(report.K_diag))
+    # deflection [mm] = 1e3 * force [N] * compliance [m/N], an independent product
+    assert np.allclose(f["deflection_mm"], 1e3 * f["force_N"] * np.diag(C), rtol=1e-14)
+    assert np.allclose(f["sag_mm"], 1e3 * report.sag[:3], rtol=1e-15)
+    assert np.array_equal(f["error_diag"], report.error_diag)
+    assert f["deflection_mm"].idxmax() == report.weakest
