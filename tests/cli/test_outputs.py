@@ -193,12 +193,7 @@ def test_help_shows_defaults(capsys):
 
 
 def test_bad_pose_fails_before_building_the_flexible_arm(capsys, monkeypatch):
-    import flexarm.assembly.build as build
-
-    def no_build(*args, **kwargs):
-        raise AssertionError("the links were built before the pose was checked")
-
-    monkeypatch.setattr(build, "build_robot", no_build)
+    _forbid_builds(monkeypatch, "the links were built before the pose was checked")
     t0 = time.perf_counter()
     assert main(["modes", "--model", "cb", "--pose", "NOPE"]) == 2
     assert time.perf_counter() - t0 < 2.0
@@ -211,16 +206,30 @@ def test_bad_pose_fails_before_building_the_flexible_arm(capsys, monkeypatch):
                                   ["chatter", "--model", "cb", "--pose", "1,2"],
                                   ["show-arm", "--pose", "NOPE"]])
 def test_arguments_are_checked_before_the_links_are_built(argv, capsys, monkeypatch, tmp_path):
-    import flexarm.assembly.build as build
-
-    def no_build(*args, **kwargs):
-        raise AssertionError("the links were built before the arguments were checked")
-
-    monkeypatch.setattr(build, "build_robot", no_build)
+    _forbid_builds(monkeypatch, "the links were built before the arguments were checked")
     monkeypatch.chdir(tmp_path)
     assert main(argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"flexarm {argv[0]}: error: --")
+
+
+#: Modules that bind ``build_robot`` by name at import.
+_BUILDERS = ("flexarm.assembly.build", "flexarm.assembly", "flexarm.assembly.arm",
+             "flexarm.assembly.full_arm", "flexarm.assembly.flexible",
+             "flexarm.studies.arm_study", "flexarm.studies.compare_models")
+
+
+def _forbid_builds(monkeypatch, message: str) -> None:
+    """Every ``build_robot`` raises: imported first, so that no module first imported
+    while the patch is on keeps the stand-in after the test."""
+    import importlib
+
+    def no_build(*args, **kwargs):
+        raise AssertionError(message)
+
+    modules = [importlib.import_module(name) for name in _BUILDERS]  # all before any patch
+    for module in modules:
+        monkeypatch.setattr(module, "build_robot", no_build)
 
 
 def test_progress_writes_plain_lines_to_a_log(capsys):

@@ -49,7 +49,7 @@ def _matrix_cards(name: str, A: np.ndarray, ids, comps) -> list[str]:
         rows = np.flatnonzero(A[: j + 1, j])
         if rows.size == 0:
             continue
-        entries = [f"{ids[i]},{comps[i]},{A[i, j]!r}" for i in rows]
+        entries = [f"{ids[i]},{comps[i]},{float(A[i, j])!r}" for i in rows]
         lines.append(f"DMIG,{name},{ids[j]},{comps[j]},," + entries[0])
         for k in range(1, len(entries), 2):
             lines.append("+," + ",,".join(entries[k : k + 2]))
@@ -66,7 +66,7 @@ def write(path, se: Superelement) -> None:
              f"$ interfaces: {', '.join(se.interface_names)}",
              _TAG + meta_json(se)]
     for k, p in enumerate(se.node_positions):
-        lines.append(f"GRID,{k + 1},,{p[0]!r},{p[1]!r},{p[2]!r}")
+        lines.append(f"GRID,{k + 1},,{float(p[0])!r},{float(p[1])!r},{float(p[2])!r}")
     spoints = ids[comps == 0]
     for k in range(0, spoints.size, 6):
         lines.append("SPOINT," + ",".join(str(s) for s in spoints[k : k + 6]))
