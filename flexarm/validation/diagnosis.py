@@ -246,6 +246,29 @@ class Diagnosis:
         """The diagnosis as ``diagnose`` prints it (:func:`diagnosis_text`)."""
         return diagnosis_text(self)
 
+    def __repr__(self) -> str:
+        accepted = ", ".join(e.label for e in self.accepted) or "nothing"
+        return (f"Diagnosis({len(self.steps)} model versions, accepted: {accepted}; final "
+                f"chi2_red {self.final.chi2_red:.3f} (band {self.final.band[0]:.3f}-"
+                f"{self.final.band[1]:.3f}), RMS {self.final.rms_fit * 1e6:.1f} µm"
+                f"{', unexplained misfit' if self.unexplained else ''})")
+
+    def to_dataframe(self):
+        """One row per candidate and model version: ``version``, ``model``, ``candidate``,
+        ``status``, ``dBIC``, ``unique``, ``norm`` (as in the report's table) and
+        ``detail`` (a ``pandas.DataFrame``; pandas is optional)."""
+        from ..fe.notebook import data_frame
+
+        rows = [(i, s.label, c) for i, s in enumerate(self.steps) for c in s.candidates]
+        return data_frame({"version": [i for i, _, _ in rows],
+                           "model": [m for _, m, _ in rows],
+                           "candidate": [c.label for *_, c in rows],
+                           "status": [c.status for *_, c in rows],
+                           "dBIC": [c.dbic for *_, c in rows],
+                           "unique": [c.unique for *_, c in rows],
+                           "norm": [c.norm for *_, c in rows],
+                           "detail": [c.detail for *_, c in rows]})
+
 
 
 #: Width of the diagnosis text [characters].

@@ -66,3 +66,21 @@ def test_truth_files_count_joints_from_1():
     backlash = [e for e in truth["effects"] if e["kind"] == "backlash"]
     assert [e["joint_number"] for e in backlash] == [2]  # the README's "joint-2 backlash"
     assert backlash[0]["params"]["width"] == pytest.approx(1e-4)
+
+
+def test_diagnosis_table_and_repr_for_notebooks():
+    from importlib.resources import files
+
+    from flexarm.validation.workflow import run_diagnosis
+
+    dg = run_diagnosis(str(files("flexarm") / "data" / "lab" / "lab_hidden_effect.csv")).diagnosis
+    frame = dg.to_dataframe()
+    assert len(frame) == sum(len(s.candidates) for s in dg.steps)
+    first = dg.steps[0].candidates[0]
+    row = frame.iloc[0]
+    assert (row["version"], row["candidate"], row["status"]) == (0, first.label, first.status)
+    assert row["dBIC"] == first.dbic and row["unique"] == first.unique
+    assert frame[frame.status == "accepted"].candidate.tolist() == ["joint 2 backlash"]
+    text = repr(dg)
+    assert len(text) < 300 and "accepted: joint 2 backlash" in text
+    assert f"chi2_red {dg.final.chi2_red:.3f}" in text
