@@ -96,7 +96,7 @@ class Points:
     __hash__ = None
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class ShapeData(ModalData):
     """Measured natural frequencies with mode shapes at measurement DOFs.
 

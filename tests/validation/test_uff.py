@@ -160,6 +160,8 @@ def test_complex_shapes_and_2411_nodes(tmp_path):
     shapes = ShapeData(poses=["Q1"] * 2, q=np.zeros((2, 6)), modes=[1, 2], freq_hz=[8.5, 21.0],
                        damping_ratio=[0.02, 0.05], nodes=[4, 4, 4], dirs=["x", "y", "z"],
                        shapes=[[1.0 + 0.1j, -0.5j, 0.25], [0.3, 1.0, -0.2 + 0.2j]])
+    text = repr(shapes)  # the short line of ModalData, not every shape entry
+    assert len(text) < 300 and text.startswith("ShapeData(") and "8.5" in text
     path = write_uff(tmp_path / "c.unv", shapes)
     d55 = [d for d in pyuff.UFF(str(path)).read_sets() if d["type"] == 55]
     assert [int(d["analysis_type"]) for d in d55] == [3, 3]
