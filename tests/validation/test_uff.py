@@ -101,6 +101,31 @@ def test_pyuff_written_set_gives_analytic_frf_and_shapes(tmp_path, mm):
     assert content.header["program"].strip() == "pyuff"
 
 
+def test_shapes_of_an_analytic_system_to_1e12(tmp_path):
+    """Three equal masses, equal springs between them and to ground on each: the modes are
+    (1, 1, 1), (1, 0, -1), (1, -2, 1) whatever k and k0, which pyuff's 6-digit 55 records
+    hold exactly, so the shapes read back equal the analytic ones to round-off."""
+    m, k, k0 = 1.5, 3e4, 1e4
+    K = k * np.array([[1, -1, 0], [-1, 2, -1], [0, -1, 1]]) + k0 * np.eye(3)
+    lam, Phi = sla.eigh(K, m * np.eye(3))
+    np.testing.assert_allclose(lam, k0 / m + k / m * np.array([0.0, 1.0, 3.0]), rtol=1e-12)
+    Phi = Phi / Phi[np.argmax(np.abs(Phi), axis=0), range(3)]  # largest entry +1
+    sets = [pyuff.prepare_15(node_nums=[1, 2, 3], def_cs=[0] * 3, disp_cs=[0] * 3,
+                             color=[1] * 3, x=[0.0, 0.5, 1.0], y=[0.0] * 3, z=[0.0] * 3)]
+    for r in range(3):
+        sets.append(pyuff.prepare_55(model_type=1, analysis_type=2, data_ch=2, spec_data_type=8,
+                                     r1=np.zeros(3), r2=Phi[:, r], r3=np.zeros(3), load_case=1,
+                                     mode_n=r + 1, freq=np.sqrt(lam[r]) / (2 * np.pi),
+                                     node_nums=[1, 2, 3], modal_damp_vis=ZETA))
+    path = tmp_path / "chain.uff"
+    pyuff.UFF(str(path)).write_sets(sets, mode="overwrite")
+    s = read_uff(path).shapes
+    analytic = np.array([[1.0, 1.0, 1.0], [1.0, 0.0, -1.0], [-0.5, 1.0, -0.5]])
+    signs = np.sign(s.shapes[:, 0])[:, None] * np.sign(analytic[:, 0])[:, None]
+    assert np.max(np.abs(s.shapes * signs - analytic)) < 1e-12
+    assert np.max(np.abs(s.freq_hz / (np.sqrt(lam) / (2 * np.pi)) - 1)) < 1e-5  # 6 digits
+
+
 def test_our_output_read_by_pyuff_is_identical(tmp_path):
     rng = np.random.default_rng(3)
     H = rng.standard_normal((4, 50)) + 1j * rng.standard_normal((4, 50))
