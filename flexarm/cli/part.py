@@ -119,6 +119,10 @@ def _add_reduce(p: argparse.ArgumentParser) -> None:
     p.add_argument("--backend", default=None,
                    help="sparse solver: pardiso | cholmod | splu, or petsc to reduce across "
                         "the ranks of mpiexec -n N (PETSc/MUMPS + SLEPc)")
+    p.add_argument("--precision", default=None, choices=["double", "single"],
+                   help="precision of the sparse factor: single halves its memory, every "
+                        "solve refined to double accuracy (default: double when it fits, "
+                        "else single)")
     p.add_argument("-o", "--output", required=True, help="superelement file (.h5 default)")
     p.add_argument("--format", default=None, choices=["h5", "npz", "mtx", "dmig"],
                    help="file format (default: from the extension)")
@@ -147,13 +151,16 @@ def _run_reduce(args) -> int:
         se, st = reduce_with_stats(
             mesh, material, regions, args.coupling, args.method, args.modes,
             n_masters=args.masters, diagonal=args.diagonal,
-            surface_only=not args.volume_nodes, backend=args.backend)
+            surface_only=not args.volume_nodes, backend=args.backend,
+            precision=args.precision)
     if se is None:  # another MPI rank: rank 0 writes the superelement
         return 0
     formats.write(args.output, se, args.format)
     out(f"{args.mesh}: {mesh.n_tets} Tet{4 if mesh.order == 1 else 10}, material "
         f"{material.name}, mass {se.mass:.6g} kg, COM {se.center_of_mass.round(6)} m")
     out(reduction_text(se, st))
+    if st.precision == "single":
+        out("factor in single precision, solves refined to double accuracy")
     out(f"wrote {args.output}")
     return 0
 

@@ -75,6 +75,36 @@ class Modes:
     def __len__(self) -> int:
         return int(self.omega2.size)
 
+    def __repr__(self) -> str:
+        """One line: mode count, rigid modes, elastic frequency range [Hz], shape size.
+
+        Examples
+        --------
+        >>> Modes(np.array([0.0, (2 * np.pi * 10) ** 2, (2 * np.pi * 25) ** 2]),
+        ...       np.zeros((12, 3)), scale=1e6)
+        Modes(3 modes, 1 rigid, elastic 10–25 Hz, shapes 12 DOF)
+        """
+        from .notebook import span
+
+        elastic = self.freq_hz[~self.is_rigid]
+        return (f"Modes({len(self)} modes, {self.n_rigid} rigid, elastic "
+                f"{span(elastic, 'Hz')}, shapes {self.vectors.shape[0]} DOF)")
+
+    def to_dataframe(self):
+        """``pandas.DataFrame``, one row per mode: ``mode`` (from 1), ``f_Hz``,
+        ``omega2_rad2_per_s2`` (the eigenvalue) and ``rigid`` (bool).
+
+        Examples
+        --------
+        >>> m = Modes(np.array([0.0, (2 * np.pi * 10) ** 2]), np.zeros((6, 2)), scale=1e6)
+        >>> m.to_dataframe()["f_Hz"].round(6).tolist()
+        [0.0, 10.0]
+        """
+        from .notebook import data_frame
+
+        return data_frame({"mode": np.arange(1, len(self) + 1), "f_Hz": self.freq_hz,
+                           "omega2_rad2_per_s2": self.omega2, "rigid": self.is_rigid})
+
 
 def stiffness_scale(K: sp.spmatrix, M: sp.spmatrix) -> float:
     """median(K_ii / M_ii) [rad^2/s^2]: the squared angular frequency of one element."""
@@ -130,7 +160,8 @@ def _check_residuals(K, M, w, v, limit: float) -> None:
 
 
 def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: int | None = None,
-                 method: str = "block", block_size: int | None = None):
+                 method: str = "block", block_size: int | None = None,
+                 precision: str = "double"):
     """Eigensolver: shift-invert around ``sigma`` [rad^2/s^2], the modes nearest it.
 
     ``sigma=None`` uses :func:`auto_shift` (safe for free parts).  The returned callable
@@ -151,6 +182,10 @@ def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: in
     block_size : int, optional
         Right-hand sides per solve of the block method (default
         :func:`flexarm.fe.block_eigen.default_block_size`).
+    precision : {"double", "single"}
+        Precision of the factor this solver makes (see :func:`flexarm.fe.solvers.factorize`):
+        ``"single"`` halves its memory; every solve is refined to double accuracy, so the
+        modes pass the same residual check.
     """
     if method not in METHODS:
         raise ValueError(f"eigen method must be one of {', '.join(METHODS)}, got '{method}'")
@@ -167,7 +202,7 @@ def shift_invert(sigma: float | None = None, backend: str | None = None, ncv: in
         t0 = time.perf_counter()
         if factor is None:
             A = (K - s * M) if s != 0.0 else K
-            factor = factorize(A, backend=backend, spd=s <= 0.0)
+            factor = factorize(A, backend=backend, spd=s <= 0.0, precision=precision)
         # The Krylov vector work is BLAS on long vectors or thin blocks: on shared cores
         # threads only contend (ARPACK: 5.6 s -> 0.7 s on 14.6k DOF, 20 modes, 2 cores).
         # MKL, which runs PARDISO's solves, is limited with it (see benchmarks/README.md).

@@ -10,10 +10,11 @@ analysis on Tet10 links of 29k and 140k DOF).  The rest (matrices and their coup
 copies, the dense basis, the recovery matrix, the Krylov basis) follows from counts.
 
 :func:`plan_memory` turns the estimate into a path: the in-core default when it fits in
-the memory available, PETSc across MPI ranks when the process runs under ``mpiexec``
-and each host's share fits, else :class:`InsufficientMemoryError` with the figures and
-the cluster command.  Small links skip the analysis: a generous closed-form bound
-already fits.
+the memory available, in core with a single-precision factor (refined to double
+accuracy, :mod:`flexarm.fe.refinement`) when only that fits, PETSc across MPI ranks when
+the process runs under ``mpiexec`` and each host's share fits, else
+:class:`InsufficientMemoryError` with the figures and the cluster command.  Small links
+skip the analysis: a generous closed-form bound already fits.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from __future__ import annotations
 import logging
 import math
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -41,12 +42,19 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 GB = 1024.0**3
-#: Bytes per factor entry: the float64 value plus PARDISO's supernodal indices and
-#: work arrays (its own peak over 8 x entries: 1.36 at 140k DOF, 1.77 at 29k DOF).
-FACTOR_BYTES_PER_ENTRY = 12.0
+#: Bytes per factor entry: the float64 value plus PARDISO's supernodal indices, fitted
+#: (with the terms below) to the whole measured peak of CB reductions of Tet10 bars since
+#: the full matrices are freed before the factor is made: estimate / measured 1.38 at 29k
+#: DOF, 1.26 at 200k (2.19 GB), 1.23 at 1.0M (16.3 GB).  (PARDISO's own peak over 8 x
+#: entries: 1.36 at 140k DOF, 1.77 at 29k DOF; the other terms are generous on large links.)
+FACTOR_BYTES_PER_ENTRY = 9.0
+#: The same for a single-precision factor (the float32 value plus PARDISO's indices):
+#: estimate / measured 1.48 at 29k DOF, 1.16 at 1.0M (11.4 GB), 1.27 at 1.52M (17.2 GB).
+FACTOR_BYTES_PER_ENTRY_SINGLE = 4.5
 #: MUMPS needs more than PARDISO for the same fill (its default ICNTL(14) = 20-35 %
-#: workspace, plus the distributed copies of the matrix it receives).
-MUMPS_OVERHEAD = 1.4
+#: workspace, plus the distributed copies of the matrix it receives): 1.4 x the 12 bytes
+#: an entry first assumed for PARDISO.
+MUMPS_OVERHEAD = 1.4 * 12.0 / FACTOR_BYTES_PER_ENTRY
 #: Sparse matrices alive at once during a reduction, in units of one K (CSR, 12 bytes an
 #: entry): K, M (a third of K's entries), the coupled copies, the interior blocks and
 #: PARDISO's upper triangle.
@@ -89,6 +97,8 @@ class MemoryEstimate:
     method : str
         ``"analysis"`` (PARDISO's symbolic phase on the node graph) or ``"bound"``
         (closed-form upper bound, for small links or without PARDISO).
+    precision : {"double", "single"}
+        Precision of the factor counted.
     """
 
     n_dofs: int
@@ -97,6 +107,7 @@ class MemoryEstimate:
     sparse_bytes: float
     dense_bytes: float
     method: str
+    precision: str = "double"
 
     @property
     def total_bytes(self) -> float:
@@ -109,10 +120,18 @@ class MemoryEstimate:
                   + self.dense_bytes / 2) / ranks
         return shared + self.dense_bytes / 2
 
+    def in_precision(self, precision: str) -> MemoryEstimate:
+        """The same estimate with the factor stored in ``precision``."""
+        per_entry = (FACTOR_BYTES_PER_ENTRY_SINGLE if precision == "single"
+                     else FACTOR_BYTES_PER_ENTRY)
+        return replace(self, factor_bytes=per_entry * self.factor_entries, precision=precision)
+
     def text(self) -> str:
         """One line: total and factor [GB], how the fill was found."""
         how = "METIS analysis" if self.method == "analysis" else "closed-form bound"
-        return (f"{self.n_dofs} DOF: about {_gb(self.total_bytes)} in core (factor "
+        single = ("" if self.precision == "double" else
+                  " with a single-precision factor")
+        return (f"{self.n_dofs} DOF: about {_gb(self.total_bytes)} in core{single} (factor "
                 f"{_gb(self.factor_bytes)}, {self.factor_entries:.3g} entries by {how})")
 
 
@@ -130,6 +149,8 @@ class MemoryPlan:
         Memory available on this host [bytes].
     ranks : int
         MPI ranks sharing the work (1 in core).
+    precision : {"double", "single"}
+        Precision of the factor (``"single"`` when only that fits in core).
     """
 
     backend: str | None
@@ -137,6 +158,7 @@ class MemoryPlan:
     estimate: MemoryEstimate
     available_bytes: float
     ranks: int = 1
+    precision: str = "double"
 
 
 def available_memory() -> float:
@@ -242,7 +264,8 @@ def _cluster_hint(est: MemoryEstimate, available: float) -> str:
 
 
 def plan_memory(mesh: TetMesh, n_modes: int = 20, backend: str | None = None,
-                available: float | None = None, n_boundary: int = 12) -> MemoryPlan:
+                available: float | None = None, n_boundary: int = 12,
+                precision: str | None = None) -> MemoryPlan:
     """The path that fits, or :class:`InsufficientMemoryError` with the figures.
 
     Parameters
@@ -254,6 +277,9 @@ def plan_memory(mesh: TetMesh, n_modes: int = 20, backend: str | None = None,
         The requested solver backend; ``"petsc"`` checks each host's share.
     available : float, optional
         Memory available on this host [bytes] (default :func:`available_memory`).
+    precision : {"double", "single"}, optional
+        Precision of the factor; ``None`` picks double when it fits in core, else single
+        when that fits (PARDISO or SuperLU backends), else PETSc under ``mpiexec``.
 
     Examples
     --------
@@ -265,6 +291,11 @@ def plan_memory(mesh: TetMesh, n_modes: int = 20, backend: str | None = None,
     ...
     flexarm.fe.memory_estimate.InsufficientMemoryError: 3075 DOF: about ...
     """
+    if precision not in (None, "double", "single"):
+        raise ValueError(f"precision must be double or single, got '{precision}'")
+    if backend == "petsc" and precision == "single":
+        raise ValueError("the PETSc backend factorises in double precision only; "
+                         "drop --precision single or the PETSc backend")
     avail = available_memory() if available is None else float(available)
     n_basis = n_modes + n_boundary
     est = estimate_memory(mesh, n_basis, analyse=False)
@@ -279,13 +310,20 @@ def plan_memory(mesh: TetMesh, n_modes: int = 20, backend: str | None = None,
                 f"{_gb(need)} here, {_gb(avail)} available; "
                 + _cluster_hint(est, avail))
         return MemoryPlan("petsc", "petsc", est, avail, ranks)
-    if est.total_bytes <= avail:
+    single = est.in_precision("single")
+    can_single = backend in (None, "pardiso", "splu")
+    if precision != "single" and est.total_bytes <= avail:
         log.info("memory plan: in core, %s, %s available", est.text(), _gb(avail))
         return MemoryPlan(backend, "in-core", est, avail)
-    ranks, local = _ranks() if backend is None else (1, 1)
+    if precision != "double" and can_single and single.total_bytes <= avail:
+        log.info("memory plan: in core, %s, %s available", single.text(), _gb(avail))
+        return MemoryPlan(backend, "in-core", single, avail, precision="single")
+    ranks, local = _ranks() if backend is None and precision is None else (1, 1)
     if ranks > 1 and local * est.per_rank_bytes(ranks) <= avail:
         log.info("memory plan: PETSc on %d ranks, %s", ranks, est.text())
         return MemoryPlan("petsc", "petsc", est, avail, ranks)
+    tried = est.text() if precision == "double" or not can_single else (
+        single.text() if precision == "single"
+        else f"{est.text()}, {_gb(single.total_bytes)} with a single-precision factor")
     raise InsufficientMemoryError(
-        f"{est.text()}, {_gb(avail)} available on this machine; "
-        + _cluster_hint(est, avail))
+        f"{tried}, {_gb(avail)} available on this machine; " + _cluster_hint(est, avail))

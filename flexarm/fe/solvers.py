@@ -7,6 +7,10 @@ side (and the shift-invert eigen-solve) that shares ``A``.  Backends:
 ``cholmod``  SuiteSparse CHOLMOD through scikit-sparse, when installed.
 ``splu``     SciPy SuperLU (always available, slow on 3-D meshes).
 
+``precision="single"`` factorises in single precision (PARDISO, SuperLU): half the
+factor's memory, with every solve refined to double accuracy against the double matrix
+(:mod:`flexarm.fe.refinement`).
+
 The default is the first available of the list, overridable with the environment
 variable ``FLEXARM_SOLVER`` or :func:`set_default_backend`.
 """
@@ -25,6 +29,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .errors import FlexarmError, MissingDependencyError
+from .refinement import RefinementStats, refined_solver
 from .tolerances import tol
 
 __all__ = [
@@ -36,11 +41,14 @@ __all__ = [
     "SingularMatrixError",
     "FactorSize",
     "factor_size",
+    "PRECISIONS",
 ]
 
 log = logging.getLogger(__name__)
 
 BACKENDS = ("pardiso", "cholmod", "splu")
+#: Precisions of the factor: ``single`` is refined to double accuracy on every solve.
+PRECISIONS = ("double", "single")
 _default: str | None = None
 
 
@@ -92,12 +100,22 @@ class Factor:
     backend : str
     seconds : float
         Wall time of the factorisation.
+    precision : {"double", "single"}
+        Precision of the stored factor (solves are double-accurate either way).
+    memory_bytes : int or None
+        The factor's memory as the backend reports it (PARDISO's permanent plus
+        numerical-phase memory) [bytes]; None when the backend does not say.
+    refinement : RefinementStats or None
+        Refinement counters of a single-precision factor.
     """
 
     n: int
     backend: str
     seconds: float
     _solve: object
+    precision: str = "double"
+    memory_bytes: int | None = None
+    refinement: RefinementStats | None = None
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         b = np.asarray(b, dtype=np.float64)
@@ -110,7 +128,8 @@ class Factor:
         return spla.LinearOperator((self.n, self.n), matvec=self.solve, dtype=np.float64)
 
 
-def factorize(A, backend: str | None = None, spd: bool = True) -> Factor:
+def factorize(A, backend: str | None = None, spd: bool = True,
+              precision: str = "double") -> Factor:
     """Factorise a symmetric sparse matrix once for many solves.
 
     Parameters
@@ -122,29 +141,46 @@ def factorize(A, backend: str | None = None, spd: bool = True) -> Factor:
     spd : bool
         True when ``A`` is positive definite (Cholesky-type factorisation);
         False for indefinite shifted matrices.
+    precision : {"double", "single"}
+        ``"single"`` stores the factor in single precision (half the memory; PARDISO and
+        SuperLU only) and refines every solve to double accuracy with ``A`` itself.
 
     Examples
     --------
     >>> A = sp.diags([4.0, 5.0, 6.0]).tocsr()
     >>> factorize(A, backend="splu").solve(np.array([4.0, 10.0, 18.0]))
     array([1., 2., 3.])
+    >>> factorize(A, backend="splu", precision="single").solve(np.array([4.0, 10.0, 18.0]))
+    array([1., 2., 3.])
     """
     backend = backend or default_backend()
     A = sp.csr_matrix(A, dtype=np.float64)
     if A.shape[0] != A.shape[1]:
         raise ValueError(f"matrix must be square, got shape {A.shape}")
+    if precision not in PRECISIONS:
+        raise ValueError(f"precision must be one of {', '.join(PRECISIONS)}, got '{precision}'")
+    single = precision == "single"
+    if single and backend not in ("pardiso", "splu"):
+        raise ValueError(f"a single-precision factor needs the pardiso or splu backend, "
+                         f"got '{backend}'")
     t0 = time.perf_counter()
+    memory = None
     if backend == "pardiso":
-        solve = _pardiso(A, spd)
+        solve, memory = _pardiso(A, spd, single)
     elif backend == "cholmod":
         solve = _cholmod(A, spd)
     elif backend == "splu":
-        solve = _splu(A, spd)
+        solve = _splu(A, spd, single)
     else:
         raise ValueError(f"solver backend must be one of {', '.join(BACKENDS)}, got '{backend}'")
+    stats = None
+    if single:
+        solve = refined_solver(A, solve)
+        stats = solve.stats
     dt = time.perf_counter() - t0
-    log.info("factorised %d x %d (nnz %d) with %s in %.2f s", *A.shape, A.nnz, backend, dt)
-    return Factor(A.shape[0], backend, dt, solve)
+    log.info("factorised %d x %d (nnz %d) with %s (%s) in %.2f s", *A.shape, A.nnz, backend,
+             precision, dt)
+    return Factor(A.shape[0], backend, dt, solve, precision, memory, stats)
 
 
 @dataclass(frozen=True)
@@ -206,7 +242,7 @@ def factor_size(A) -> FactorSize:
 
 
 # ------------------------------------------------------------------------- backends
-def _splu(A: sp.csr_matrix, spd: bool = True):
+def _splu(A: sp.csr_matrix, spd: bool = True, single: bool = False):
     # Symmetric mode: order A + A^T (minimum degree) and pivot on the diagonal, as a
     # Cholesky would.  Without it SuperLU's partial pivoting leaves the symmetric order
     # and the fill explodes: on a 66k-DOF Tet4 link 235 s instead of 2.5 s (COLAMD:
@@ -214,7 +250,8 @@ def _splu(A: sp.csr_matrix, spd: bool = True):
     # gets a row exchange.
     try:
         lu = spla.splu(
-            A.tocsc(), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0 if spd else 0.1,
+            A.astype(np.float32 if single else np.float64).tocsc(), permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0 if spd else 0.1,
             options={"SymmetricMode": True},
         )
     except RuntimeError as exc:  # "Factor is exactly singular"
@@ -226,6 +263,8 @@ def _splu(A: sp.csr_matrix, spd: bool = True):
         raise SingularMatrixError(
             "matrix is singular (a pivot ~0): is the part fully supported?"
         )
+    if single:
+        return lambda b: lu.solve(np.asarray(b, dtype=np.float32)).astype(np.float64)
     return lu.solve
 
 
@@ -280,10 +319,13 @@ def _mkl_pardiso():
     return fn
 
 
-def _pardiso(A: sp.csr_matrix, spd: bool):
-    """Factorise ``A`` with MKL PARDISO; return ``solve(b)`` for (n,) or (n, k) arrays.
+def _pardiso(A: sp.csr_matrix, spd: bool, single: bool = False):
+    """Factorise ``A`` with MKL PARDISO; return ``solve(b)`` for (n,) or (n, k) arrays
+    and the factor's memory [bytes] as PARDISO reports it.
 
-    MKL's memory for the factor is released when ``solve`` is garbage-collected.
+    ``single``: the factor (and the right-hand sides PARDISO sees) in float32, as
+    ``iparm[27] = 1`` asks; ``solve`` still takes and returns float64.  MKL's memory for
+    the factor is released when ``solve`` is garbage-collected.
     """
     if not _has("pypardiso"):
         raise MissingDependencyError("pypardiso", "the PARDISO backend")
@@ -292,14 +334,19 @@ def _pardiso(A: sp.csr_matrix, spd: bool):
     mtype = 2 if spd else -2  # PARDISO matrix types: real SPD, real symmetric indefinite
     pt = np.zeros(64, dtype=np.int64)  # PARDISO's opaque handle (64-bit pointers)
     iparm = _pardiso_iparm(spd)
+    if single:
+        iparm[27] = 1  # single precision: matrix, right-hand sides and factor in float32
+        data = data.astype(np.float32)
     perm = np.zeros(0, dtype=np.int32)
     call = _pardiso_caller(pardiso, mtype, spd, A.shape[0], (pt, iparm, perm, data, ia, ja))
     call(12, None)  # analysis + numerical factorisation
     if spd and iparm[29] > 0:  # number of zero or negative pivots
         raise SingularMatrixError("matrix is not positive definite: is the part fully supported?")
+    memory = 1024 * (int(iparm[15]) + int(iparm[16]))  # permanent + numerical phase [KB]
 
     def solve(b: np.ndarray) -> np.ndarray:
-        return call(33, b)
+        x = call(33, b)
+        return x.astype(np.float64) if single else x
 
     # Keep the handle alive as long as the solve closure lives; release MKL memory after.
     import weakref
@@ -311,7 +358,7 @@ def _pardiso(A: sp.csr_matrix, spd: bool):
             pass
 
     weakref.finalize(solve, release)
-    return solve
+    return solve, memory
 
 
 def _pardiso_upper(A: sp.csr_matrix) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -357,7 +404,7 @@ def _pardiso_caller(pardiso, mtype: int, spd: bool, n: int, arrays: tuple):
 
     def call(phase: int, b: np.ndarray | None):
         nrhs = 1 if b is None or b.ndim == 1 else b.shape[1]
-        rhs = np.zeros(n) if b is None else np.asfortranarray(b)
+        rhs = np.zeros(n, dtype=data.dtype) if b is None else np.asfortranarray(b, data.dtype)
         x = np.zeros_like(rhs)
         err = ctypes.c_int32(0)
         i32p = ctypes.POINTER(ctypes.c_int32)

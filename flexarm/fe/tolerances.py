@@ -23,6 +23,11 @@ class Tolerances:
     singular_pivot: float = 1e-12
     #: Geometric coincidence of points [m].
     point_merge: float = 1e-9
+    #: Mixed-precision refinement stops a column at this normwise backward error (a
+    #: double-precision direct solve reaches 1e-17..1e-16).
+    refinement: float = 1e-15
+    #: ... and rejects the single-precision factor when a column stays above this.
+    refinement_fail: float = 1e-12
 
 
 tol = Tolerances()

@@ -74,7 +74,7 @@ def guyan_basis(Psi: FloatArray) -> FloatArray:
 
 
 def guyan(K, M, n_boundary: int, factor: Factor | None = None,
-          backend: str | None = None) -> Reduction:
+          backend: str | None = None, precision: str = "double") -> Reduction:
     """Static condensation onto the last ``n_boundary`` DOFs.
 
     Parameters
@@ -84,6 +84,9 @@ def guyan(K, M, n_boundary: int, factor: Factor | None = None,
     n_boundary : int
     factor : Factor, optional
         Factor of the interior block ``K_ii`` to reuse.
+    precision : {"double", "single"}
+        Precision of the factor made here (``"single"``: half the memory, solves
+        refined to double accuracy).
 
     Examples
     --------
@@ -93,7 +96,7 @@ def guyan(K, M, n_boundary: int, factor: Factor | None = None,
     """
     t0 = time.perf_counter()
     K_ii, K_ib = split_blocks(K, n_boundary)
-    factor = factor or factorize(K_ii, backend=backend)
+    factor = factor or factorize(K_ii, backend=backend, precision=precision)
     t1 = time.perf_counter()
     Psi = constraint_modes(factor, K_ib)
     t2 = time.perf_counter()

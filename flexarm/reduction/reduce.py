@@ -19,8 +19,8 @@ from ..fe.material import Material
 from ..fe.memory_estimate import plan_memory
 from ..fe.mesh import TetMesh
 from .couplings import Coupling, couple
-from .craig_bampton import craig_bampton
-from .guyan import Reduction
+from .craig_bampton import craig_bampton_blocks, split_system
+from .guyan import Reduction, guyan
 from .interfaces import Interface, interfaces
 from .superelement import (
     FORMAT_VERSION,
@@ -72,6 +72,8 @@ class ReductionStats:
     seconds : dict of str -> float
         Wall time [s] per step, in order: ``assemble_couple``, the reduction's own
         steps (``factorise``, ``constraint_modes``, ``eigen``, ``projection``), ``total``.
+    precision : {"double", "single"}
+        Precision of the factor of the interior stiffness (solves are double-accurate).
     """
 
     n_full: int
@@ -79,6 +81,7 @@ class ReductionStats:
     n_reduced: int
     region_nodes: dict
     seconds: dict
+    precision: str = "double"
 
     @property
     def total_seconds(self) -> float:
@@ -112,18 +115,22 @@ def reduce_with_stats(mesh: TetMesh, material: Material, regions, coupling: str 
                       method: str = "cb", n_modes: int = 20, n_masters: int | None = None,
                       diagonal: bool = False, surface_only: bool = True,
                       recovery_dtype=np.float32, backend: str | None = None,
-                      matrices=None) -> tuple[Superelement, ReductionStats]:
+                      matrices=None, precision: str | None = None,
+                      ) -> tuple[Superelement, ReductionStats]:
     """:func:`reduce_part` that also returns the sizes and wall times of each step.
 
     ``backend="petsc"`` reduces across the MPI ranks of ``mpiexec -n N`` (every rank calls
     this; ranks other than 0 get ``(None, None)``).  A memory estimate runs first and
     raises :class:`~flexarm.fe.memory_estimate.InsufficientMemoryError` when the link does
-    not fit (see :func:`~flexarm.fe.memory_estimate.plan_memory`).
+    not fit (see :func:`~flexarm.fe.memory_estimate.plan_memory`).  ``precision`` of the
+    factor: ``"double"``, ``"single"`` (half the factor's memory, solves refined to
+    double accuracy) or ``None``: double when it fits, else single.
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got '{method}'")
     n = 0 if method == "guyan" else int(n_modes)
-    backend = plan_memory(mesh, n, backend).backend  # refuses before any heavy work
+    plan = plan_memory(mesh, n, backend, precision=precision)  # refuses before heavy work
+    backend, precision = plan.backend, plan.precision
     t0 = time.perf_counter()
     if backend == "petsc":  # every MPI rank runs this; rank 0 gets the reduction
         from .petsc_backend import reduce_coupled_petsc
@@ -136,10 +143,18 @@ def reduce_with_stats(mesh: TetMesh, material: Material, regions, coupling: str 
     else:
         model = coupled_model(mesh, material, regions, coupling, n_masters, surface_only,
                               matrices)
-        t1 = time.perf_counter()
-        red: Reduction = craig_bampton(model.K, model.M, model.coupling.n_boundary, n,
-                                       diagonal=diagonal, backend=backend)
         ifaces, c = model.interfaces, model.coupling
+        # CB needs the coupled K, M only split at the boundary: the full matrices (and
+        # the uncoupled ones) are freed before the factor, the largest allocation, is made
+        system = split_system(model.K, model.M, c.n_boundary) if n else (model.K, model.M)
+        del model
+        t1 = time.perf_counter()
+        if n:
+            red: Reduction = craig_bampton_blocks(system, n, diagonal, backend=backend,
+                                                  precision=precision)
+        else:
+            red = guyan(*system, c.n_boundary, backend=backend, precision=precision)
+        del system
     T_full = np.asarray(c.T @ red.T, dtype=recovery_dtype)
     rigid = reduced_rigid_modes(c.node_positions, c.dofs_per_node, red.K.shape[0])
     mp = matrix_mass_properties(red.M, rigid)
@@ -162,7 +177,8 @@ def reduce_with_stats(mesh: TetMesh, material: Material, regions, coupling: str 
     stats = ReductionStats(
         mesh.n_dofs, c.n_coupled, red.K.shape[0],
         {i.name: int(i.nodes.size) for i in ifaces},
-        {"assemble_couple": t1 - t0, **red.seconds, "total": time.perf_counter() - t0})
+        {"assemble_couple": t1 - t0, **red.seconds, "total": time.perf_counter() - t0},
+        precision)
     log.info("reduced %d -> %d DOF in %.2f s", mesh.n_dofs, red.K.shape[0],
              stats.total_seconds)
     return se, stats
@@ -185,7 +201,7 @@ def reduce_part(mesh: TetMesh, material: Material, regions, coupling: str = "rbe
         Fixed-interface modes for Craig-Bampton.
     **options
         ``n_masters`` (k kept nodes for ``coupling="nodes"``), ``diagonal``,
-        ``surface_only``, ``recovery_dtype``, ``backend``, ``matrices``.
+        ``surface_only``, ``recovery_dtype``, ``backend``, ``matrices``, ``precision``.
 
     Examples
     --------

@@ -21,6 +21,7 @@ from flexarm.fe import (
 )
 from flexarm.fe.block_eigen import block_shift_invert
 from flexarm.fe.eigen import DENSE_LIMIT
+from flexarm.fe.refinement import RefinementError
 
 
 @pytest.fixture(scope="module")
@@ -206,3 +207,22 @@ def test_invariant_subspaces_and_the_full_space(p):
         np.testing.assert_allclose(np.sort(lam), d[:n], rtol=1e-13)
         np.testing.assert_allclose(X.T @ X, np.eye(n), atol=1e-13)
         np.testing.assert_allclose(X * d[:, None], X * lam, atol=1e-12)
+
+
+def test_single_precision_factor_gives_the_double_modes(bar):
+    *_, Kf, Mf = bar
+    ref = modes(Kf, Mf, 12, eigensolver=shift_invert(0.0, backend="splu"))
+    got = modes(Kf, Mf, 12, eigensolver=shift_invert(0.0, backend="splu", precision="single"))
+    # this slender bar's lowest eigenvalue is only defined to ~eps * ||K|| / omega2_1 (two
+    # double backends, or dense LAPACK, differ by 3e-11..9e-10 in omega2): the single
+    # path agrees to that level
+    assert np.max(np.abs(got.freq_hz / ref.freq_hz - 1)) < 1e-9
+    assert np.allclose(np.diag(_overlap(got.vectors, ref.vectors, Mf)), 1.0, atol=1e-8)
+
+
+def test_single_precision_refuses_a_nearly_singular_shift(bar):
+    # a free part shifted just below its rigid modes: K - sigma M has cond ~1e11, far
+    # beyond what refinement through a single-precision factor can recover
+    K, M, *_ = bar
+    with pytest.raises(RefinementError, match="single-precision factor too inaccurate"):
+        modes(K, M, 8, eigensolver=shift_invert(None, backend="splu", precision="single"))

@@ -63,11 +63,41 @@ def test_plan_picks_in_core_or_refuses_with_the_figure():
     need = estimate_memory(mesh, 10 + 12, analyse=True).total_bytes
     assert plan_memory(mesh, 10, available=1.01 * need).path == "in-core"
     with pytest.raises(InsufficientMemoryError) as exc:
-        plan_memory(mesh, 10, available=0.99 * need)
+        plan_memory(mesh, 10, available=0.99 * need, precision="double")
     msg = str(exc.value)
     assert f"{mesh.n_dofs} DOF" in msg and f"{need / GB:.3g} GB" in msg
     assert "mpiexec --hostfile" in msg and "--backend petsc" in msg
     assert "\n" not in msg
+
+
+def test_plan_falls_back_to_a_single_precision_factor():
+    mesh = TetMesh.box((1.0, 0.1, 0.1), (20, 2, 2), order=2)
+    est = estimate_memory(mesh, 10 + 12, analyse=True)
+    single = est.in_precision("single")
+    # the factor's values take half the bytes, and less goes to its indices
+    assert single.factor_bytes <= 0.5 * est.factor_bytes
+    assert single.factor_entries == est.factor_entries
+    assert single.total_bytes < est.total_bytes
+    between = 0.5 * (single.total_bytes + est.total_bytes)
+    plan = plan_memory(mesh, 10, available=between)
+    assert (plan.path, plan.precision, plan.backend) == ("in-core", "single", None)
+    assert plan.estimate.total_bytes == pytest.approx(single.total_bytes)
+    assert plan_memory(mesh, 10, available=1.01 * est.total_bytes).precision == "double"
+    # asked for explicitly, single precision is used even where double fits
+    assert plan_memory(mesh, 10, available=8 * GB, precision="single").precision == "single"
+    # nothing fits: one line with both figures
+    with pytest.raises(InsufficientMemoryError) as exc:
+        plan_memory(mesh, 10, available=0.99 * single.total_bytes)
+    msg = str(exc.value)
+    assert f"{est.total_bytes / GB:.3g} GB in core" in msg
+    assert f"{single.total_bytes / GB:.3g} GB with a single-precision factor" in msg
+    with pytest.raises(InsufficientMemoryError, match="in core with a single-precision factor"):
+        plan_memory(mesh, 10, available=0.99 * single.total_bytes, precision="single")
+    # CHOLMOD has no single-precision factor: no fallback
+    with pytest.raises(InsufficientMemoryError):
+        plan_memory(mesh, 10, backend="cholmod", available=between)
+    with pytest.raises(ValueError, match="PETSc backend factorises in double"):
+        plan_memory(mesh, 10, backend="petsc", precision="single")
 
 
 def test_petsc_plan_checks_the_share_of_this_host():
@@ -108,20 +138,23 @@ def rss(field):
 mesh, regions = bar_link(1.0, 0.12, (40, 5, 5), order=2)
 open("/proc/self/clear_refs", "w").write("5")  # the peak (VmHWM) restarts from now
 base = rss("VmRSS")
-reduce_with_stats(mesh, MATERIALS["steel"], regions, "rbe2", "cb", 20, backend="pardiso")
+reduce_with_stats(mesh, MATERIALS["steel"], regions, "rbe2", "cb", 20, backend="pardiso",
+                  precision=PRECISION)
 print(json.dumps({"growth": rss("VmHWM") - base}))
 """
 
 
 @needs_pardiso
-def test_estimate_bounds_the_measured_peak():
+@pytest.mark.parametrize("precision", ["double", "single"])
+def test_estimate_bounds_the_measured_peak(precision):
     # A fresh process that only reduces, so its peak belongs to this reduction alone
     # (29k-DOF Tet10 link); the estimate (whose own analysis allocates) is made here.
     from flexarm.studies.part_study import bar_link
 
     mesh, _ = bar_link(1.0, 0.12, (40, 5, 5), order=2)
-    estimate = estimate_memory(mesh, 12 + 20, analyse=True).total_bytes
-    run = subprocess.run([sys.executable, "-c", _MEASURE], capture_output=True, text=True,
+    estimate = estimate_memory(mesh, 12 + 20, analyse=True).in_precision(precision).total_bytes
+    code = f"PRECISION = {precision!r}\n" + _MEASURE
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=300)
     assert run.returncode == 0, run.stderr
     got = json.loads(run.stdout.strip().splitlines()[-1])

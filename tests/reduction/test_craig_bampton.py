@@ -74,3 +74,37 @@ def test_too_many_modes_and_bad_method(bar):
         reduce_part(mesh, STEEL, regions, "rbe2", "mcs", 4, matrices=KM)
     assert interface_dofs(reduce_part(mesh, STEEL, regions, "rbe2", "guyan", matrices=KM),
                           ["b"]).tolist() == list(range(6, 12))
+
+
+@pytest.fixture(scope="module")
+def link10():
+    """Tet10 bar 0.6 x 0.06 x 0.06 m (16 x 2 x 2 cells, 2.5k DOF) with regions at both ends."""
+    from reduction_helpers import end_regions
+
+    from flexarm.fe import TetMesh, assemble
+
+    mesh = TetMesh.box((0.6, 0.06, 0.06), (16, 2, 2), order=2)
+    return mesh, end_regions(0.6, 0.06), assemble(mesh, STEEL)
+
+
+@pytest.mark.parametrize("backend", ["splu", "pardiso"])
+@pytest.mark.parametrize("method", ["cb", "guyan"])
+def test_single_precision_factor_equals_the_double_path(link10, backend, method):
+    from reduction_helpers import rel
+
+    from flexarm.fe import available_backends
+    from flexarm.reduction.reduce import reduce_with_stats
+
+    if backend not in available_backends():
+        pytest.skip(f"{backend} not installed")
+    mesh, regions, KM = link10
+    runs = {p: reduce_with_stats(mesh, STEEL, regions, "rbe2", method, 12, backend=backend,
+                                 matrices=KM, precision=p) for p in ("double", "single")}
+    (d, sd), (s, ss) = runs["double"], runs["single"]
+    assert (sd.precision, ss.precision) == ("double", "single")
+    # constraint modes and shift-invert solves refined to double accuracy: the reduced
+    # matrices and frequencies are the double path's to rounding
+    assert rel(s.K, d.K) < 1e-8 and rel(s.M, d.M) < 1e-8
+    assert rel(s.T, d.T) < 1e-6  # the recovery matrix is stored in float32
+    if method == "cb":
+        assert np.max(np.abs(s.freq_hz / d.freq_hz - 1)) < 1e-9
