@@ -3,7 +3,9 @@
 
 For each size, a Tet10 bar 1.0 x 0.12 x 0.12 m refined in all three directions (so the
 factor fills like a 3-D part, not like a chain) is reduced (RBE2 at both ends, 20
-modes) by the default in-core path and by the PETSc path on 1 and 2 MPI ranks.  Every
+modes) by the default in-core path (double-precision factor), in core with a
+single-precision factor refined to double accuracy (``single``), and by the PETSc path
+on 1 and 2 MPI ranks.  Every
 run is its own process (``mpiexec`` for PETSc) that samples its resident memory every
 20 ms; rank 0 sums the ranks' samples, so the peaks include every process of the run.
 Per stage (``assemble_couple``, ``factorise``, ``constraint_modes``, ``eigen``,
@@ -14,6 +16,8 @@ the memory estimate the reduction checks before it starts.
     python benchmarks/scale.py                          # 0.2M and 0.5M DOF (minutes, ~8 GB)
     python benchmarks/scale.py --dofs 0.05,0.2          # quicker
     python benchmarks/scale.py --paths default,petsc2   # choose paths
+    python benchmarks/scale.py --dofs 1.5 --paths single  # a link past the double ceiling
+    python benchmarks/scale.py --fit                    # largest link that fits, per path
 
 The PETSc path needs the MPI environment (``bash install.sh --mpi``: ``.venv/mpi``).
 """
@@ -33,7 +37,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 MPI_PYTHON = Path(os.environ.get("FLEXARM_MPI_PYTHON", ROOT / ".venv" / "mpi" / "bin" / "python"))
 STAGES = ("assemble_couple", "factorise", "constraint_modes", "eigen", "projection", "rest")
-PATHS = {"default": (None, 0), "petsc1": ("petsc", 1), "petsc2": ("petsc", 2)}
+#: path -> (backend, MPI ranks, factor precision)
+PATHS = {"default": (None, 0, "double"), "single": (None, 0, "single"),
+         "petsc1": ("petsc", 1, "double"), "petsc2": ("petsc", 2, "double")}
 
 
 def divisions_for(n_dofs: float) -> tuple[int, int, int]:
@@ -48,7 +54,8 @@ def _rss() -> float:
         return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
 
 
-def worker(div: tuple[int, int, int], backend: str | None, n_modes: int) -> None:
+def worker(div: tuple[int, int, int], backend: str | None, n_modes: int,
+           precision: str = "double") -> None:
     """One reduction in this process (every rank under mpiexec); rank 0 prints JSON."""
     from flexarm.fe import MATERIALS
     from flexarm.fe.memory_estimate import estimate_memory
@@ -67,7 +74,7 @@ def worker(div: tuple[int, int, int], backend: str | None, n_modes: int) -> None
     samples.append((t0, _rss()))
     th.start()
     _, stats = reduce_with_stats(mesh, MATERIALS["steel"], regions, "rbe2", "cb", n_modes,
-                                 backend=backend)
+                                 backend=backend, precision=precision)
     stop.set()
     th.join()
     samples.append((time.perf_counter(), _rss()))
@@ -94,8 +101,9 @@ def worker(div: tuple[int, int, int], backend: str | None, n_modes: int) -> None
     else:
         peaks = [_peak(samples, a, b) for _, a, b in times]
         ranks = 1
-    est = estimate_memory(mesh, 12 + n_modes)
+    est = estimate_memory(mesh, 12 + n_modes).in_precision(precision)
     print(json.dumps({"n_dofs": mesh.n_dofs, "ranks": ranks, "total": seconds["total"],
+                      "precision": precision,
                       "stages": {k: [b - a, p] for (k, a, b), p in zip(times, peaks, strict=True)},
                       "estimate_gb": est.total_bytes / 1024**3}))
 
@@ -114,8 +122,9 @@ def _sum_lists():
 
 
 def run(path: str, div, n_modes: int) -> dict | None:
-    backend, ranks = PATHS[path]
-    args = ["--worker", "x".join(map(str, div)), "--modes", str(n_modes)]
+    backend, ranks, precision = PATHS[path]
+    args = ["--worker", "x".join(map(str, div)), "--modes", str(n_modes),
+            "--precision", precision]
     if backend is None:
         cmd = [sys.executable, __file__, *args]
     else:
@@ -135,7 +144,8 @@ def run(path: str, div, n_modes: int) -> dict | None:
 def report(path: str, res: dict) -> None:
     peak = max(p for _, p in res["stages"].values())
     print(f"  {path:<8s} {res['ranks']} rank(s)  total {res['total']:8.1f} s   peak "
-          f"{peak / 1024**3:6.2f} GB   (estimate {res['estimate_gb']:.2f} GB in core)")
+          f"{peak / 1024**3:6.2f} GB   (estimate {res['estimate_gb']:.2f} GB in core, "
+          f"{res.get('precision', 'double')} factor)")
     for k in STAGES:
         if k in res["stages"]:
             t, p = res["stages"][k]
@@ -155,6 +165,31 @@ def exponents(path: str, results: list[dict]) -> None:
               + ", ".join(parts))
 
 
+def largest_that_fits(n_modes: int) -> None:
+    """The largest bar of this family whose memory estimate fits, per factor precision.
+
+    Bisection on the size with the estimate the reduction itself checks (METIS analysis
+    of the node graph: seconds), against the memory available now.
+    """
+    from flexarm.fe.memory_estimate import available_memory, estimate_memory
+    from flexarm.studies.part_study import bar_link
+
+    avail = available_memory()
+    print(f"available now: {avail / 1024**3:.1f} GB")
+    for precision in ("double", "single"):
+        lo, hi = 0.5e6, 3e6
+        while hi / lo > 1.05:
+            mid = math.sqrt(lo * hi)
+            mesh, _ = bar_link(1.0, 0.12, divisions_for(mid), order=2)
+            est = estimate_memory(mesh, 12 + n_modes).in_precision(precision)
+            lo, hi = (mid, hi) if est.total_bytes <= avail else (lo, mid)
+        mesh, _ = bar_link(1.0, 0.12, divisions_for(lo), order=2)
+        est = estimate_memory(mesh, 12 + n_modes).in_precision(precision)
+        print(f"  {precision} factor: largest bar about {mesh.n_dofs / 1e6:.2f}M DOF "
+              f"{divisions_for(lo)}: estimate {est.total_bytes / 1024**3:.1f} GB "
+              f"(factor {est.factor_bytes / 1024**3:.1f} GB)", flush=True)
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--dofs", default="0.2,0.5", help="sizes in millions of DOF")
@@ -162,10 +197,16 @@ def main() -> None:
     p.add_argument("--modes", type=int, default=20)
     p.add_argument("--worker", default=None, help=argparse.SUPPRESS)
     p.add_argument("--petsc", action="store_true", help=argparse.SUPPRESS)
+    p.add_argument("--precision", default="double", help=argparse.SUPPRESS)
+    p.add_argument("--fit", action="store_true",
+                   help="only print the largest bar whose estimate fits, per precision")
     args = p.parse_args()
     if args.worker:
         worker(tuple(int(v) for v in args.worker.split("x")), "petsc" if args.petsc else None,
-               args.modes)
+               args.modes, args.precision)
+        return
+    if args.fit:
+        largest_that_fits(args.modes)
         return
     print(f"load average at start: {os.getloadavg()}", flush=True)
     paths = [s.strip() for s in args.paths.split(",")]
