@@ -136,7 +136,10 @@ def run(path: str, div, n_modes: int) -> dict | None:
                OMPI_MCA_rmaps_base_oversubscribe="1")
     proc = subprocess.run(cmd, capture_output=True, text=True, env=env)
     if proc.returncode != 0:
-        print(f"  {path}: failed: {proc.stderr.strip().splitlines()[-1:]}")
+        # the worker's own one-line error, not the banner mpiexec prints after it
+        lines = proc.stderr.strip().splitlines()
+        why = next((ln for ln in reversed(lines) if "Error:" in ln), lines[-1] if lines else "")
+        print(f"  {path}: failed: {why}")
         return None
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
