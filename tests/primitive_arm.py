@@ -40,8 +40,11 @@ def _write(mesh, path, translate=(0.0, 0.0, 0.0), scale=1.0):
     return path
 
 
-def primitive_arm_robot(folder):
-    """Write the STL files into ``folder`` and return the robot (no regions)."""
+def primitive_arm_robot(folder, mesher: str = "gmsh"):
+    """Write the STL files into ``folder`` and return the robot (no regions).
+
+    gmsh by default: the same STL gives the same tetrahedra, so node counts in a seat are
+    the same on every run (pytetwild's vary by a few nodes from run to run)."""
     import trimesh
 
     from flexarm.fe.material import MATERIALS
@@ -68,7 +71,7 @@ def primitive_arm_robot(folder):
         Joint("joint_3", "arm", "hub", (0.05, 0.6, 0.0), (0.0, 1.0, 0.0), *lim, spring),
     )
     return Robot("primitive arm", links, joints, tool=Tool(xyz=(0.0, 0.06, 0.0)),
-                 poses={"home": [0.0, 0.0, 0.0]}, options=ModelOptions(mesh_size=0.04))
+                 poses={"home": [0.0, 0.0, 0.0]}, options=ModelOptions(mesh_size=0.04, mesher=mesher))
 
 
 def seat_centre(robot, link: str, region: str) -> np.ndarray:

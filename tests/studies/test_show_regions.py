@@ -13,7 +13,7 @@ from flexarm.studies.show_regions import show_regions
 
 from ..primitive_arm import SEATS, primitive_arm_robot
 
-H = 0.04  # [m] tet edge: pytetwild meshes the primitives in about a second each
+H = 0.04  # [m] tet edge: gmsh meshes the primitives in a fraction of a second each
 SIZE = (480, 360)
 
 
@@ -29,7 +29,7 @@ def result(robot):
 
 
 def test_every_detected_region_works_on_the_tet_mesh(robot, result):
-    """What the build checks, on the pytetwild meshes at the size the seats were found
+    """What the build checks, on the tet meshes at the size the seats were found
     for: every region holds non-collinear surface nodes and no node is in two."""
     from flexarm.assembly.build import link_mesh
     from flexarm.reduction.interfaces import select_region
@@ -39,7 +39,7 @@ def test_every_detected_region_works_on_the_tet_mesh(robot, result):
     assert set(rows) == set(SEATS)
     # the counts are those of the build's own selection on the cached mesh
     arm = robot.links[2]
-    mesh = link_mesh(arm, H)
+    mesh = link_mesh(arm, H, mesher=robot.options.mesher)
     for name, reg in arm.regions.items():
         cyl = _cylinder(name, reg)
         assert rows[("arm", name)].fe_nodes == select_region(mesh, cyl).size
