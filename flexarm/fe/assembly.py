@@ -5,9 +5,9 @@ evaluate all elements and quadrature points of a chunk at once and give an
 ``(n_elem, 3*nn, 3*nn)`` stack (``element_stiffness``); the node-level sparsity pattern
 (:mod:`flexarm.fe.sparsity`, ``NodePattern``), computed once per mesh; and, here, the
 loop that scatter-adds the element blocks into the pattern slots chunk by chunk, in
-place, and gathers the CSR arrays of K and M straight from the slot values in CSR
-order, so the matrices come out with sorted indices and no duplicates.  DOF index is
-``3*node + component``.  The result is deterministic: every sum runs in a fixed order.
+place; the pattern turns the slot values into CSR with sorted indices and no
+duplicates.  DOF index is ``3*node + component``.  The result is deterministic: every
+sum runs in a fixed order.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from .kernels import (
 )
 from .material import Material
 from .mesh import TetMesh
-from .sparsity import NodePattern, scatter_add
+from .sparsity import NodePattern, scatter_add, touched_zeros
 
 __all__ = [
     "element_type",
@@ -84,7 +84,7 @@ class _Assembler:
 
     def stiffness(self, material: Material) -> sp.csr_matrix:
         pat = self.pattern
-        blocks = np.zeros((pat.nnz_blocks, 9))
+        blocks = touched_zeros((pat.nnz_blocks, 9))
         nn = self.mesh.tets.shape[1]
         buffer = np.zeros(nn * nn * min(self.chunk_size, self.mesh.n_tets) * 9)
         for ch in self.chunks():
@@ -94,7 +94,7 @@ class _Assembler:
 
     def mass(self, rho: float) -> sp.csr_matrix:
         pat = self.pattern
-        values = np.zeros((pat.nnz_blocks, 1))
+        values = touched_zeros((pat.nnz_blocks, 1))
         for ch in self.chunks():
             Me = mass_kernel(self.mesh, rho, ch, self.affine)
             scatter_add(values, self._chunk_slots(ch), Me.reshape(-1, 1))

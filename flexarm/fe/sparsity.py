@@ -2,23 +2,23 @@
 
 The pattern is computed once per mesh at *node* level (one 3x3 block per node pair,
 :class:`NodePattern`: node pairs bucketed by row with a counting sort, then each short
-row sorted).  Element values are scatter-added into the pattern slots in place, and the
-CSR arrays of K and M are gathered straight from the slot values in CSR order, so the
-matrices come out with sorted indices and no duplicates.  DOF index is
+row sorted).  Element values are scatter-added into the pattern slots in place; the slots
+are in node-level CSR order, so K's 3x3 blocks form a BSR matrix that SciPy's compiled
+pass turns into CSR, and M's DOF rows are its node rows taken three times.  The matrices
+come out with sorted indices and no duplicates.  DOF index is
 ``3*node + component``.  Every sum runs in a fixed order: the result is deterministic.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
 
 from .mesh import TetMesh
 
-__all__ = ["NodePattern", "scatter_add"]
+__all__ = ["NodePattern", "scatter_add", "touched_zeros"]
 
 
 try:  # in-place scatter-add (SciPy's compiled CSC mat-vec kernel); see scatter_add
@@ -58,10 +58,8 @@ class NodePattern:
     slots : (n_elem, nn, nn) int
         Position in ``indices`` of every element node pair.
 
-    The DOF-level matrices follow from it without sorting: node row ``r`` with ``c``
-    slots gives DOF rows ``3r + i`` holding columns ``3 col + j`` in the same order, so
-    slot ``s`` and component ``i`` own the triple of K entries starting at
-    ``3 t`` and the single M entry ``t``, with ``t = 2 indptr[r] + s + i c``.
+    The DOF-level matrices follow from it without sorting: node row ``r`` gives DOF rows
+    ``3r + i`` holding columns ``3 col + j`` in the same order.
     """
 
     n_nodes: int
@@ -105,67 +103,66 @@ class NodePattern:
         np.cumsum(is_new, out=n_before[1:])
         slots = np.zeros(n_pairs, dtype=itype)
         slots[pairs] = n_before[1:] - 1
-        indptr = n_before[row_ptr].astype(np.int64)
-        indices = cols[is_new].astype(np.int64)
+        # int32 where 9 nnz fits: SciPy keeps that index type through BSR -> CSR
+        otype = _index_dtype(9 * int(n_before[-1]) + 1, 3 * n)
+        indptr = n_before[row_ptr].astype(otype)
+        indices = cols[is_new].astype(otype)
         return cls(n, indptr, indices, slots.reshape(n_e, nn, nn))
 
     @property
     def nnz_blocks(self) -> int:
         return int(self.indices.size)
 
-    @cached_property
-    def _dof_order(self) -> np.ndarray:
-        """(3 nnz,) int: for each DOF-level triple ``t`` (see class notes), ``3 s + i``.
-
-        Gathering with it turns slot-ordered blocks into CSR order (K, 3 entries per
-        triple) or slot values into M's entries (one per triple).
-        """
-        counts = np.diff(self.indptr)
-        itype = _index_dtype(9 * self.nnz_blocks + 1, 3 * self.n_nodes)
-        base = np.repeat((2 * self.indptr[:-1]).astype(itype), counts)
-        base += np.arange(self.nnz_blocks, dtype=itype)
-        count_of_slot = np.repeat(counts.astype(itype), counts)
-        src = np.zeros(3 * self.nnz_blocks, dtype=itype)
-        s3 = 3 * np.arange(self.nnz_blocks, dtype=itype)
-        for i in range(3):
-            src[base] = s3 + i
-            base += count_of_slot
-        return src
-
-    def _csr(self, data: np.ndarray, indices: np.ndarray, per_slot: int) -> sp.csr_matrix:
-        n, n3 = self.n_nodes, 3 * self.n_nodes
-        counts = np.diff(self.indptr)
-        indptr = np.zeros(n3 + 1, dtype=indices.dtype)
-        starts = 3 * per_slot * self.indptr[:-1, None] + per_slot * counts[:, None] * np.arange(3)
-        indptr[:-1] = starts.reshape(3 * n)
-        indptr[-1] = 3 * per_slot * self.nnz_blocks
-        A = sp.csr_matrix((data, indices, indptr), shape=(n3, n3))
-        A.has_sorted_indices = True  # columns 3 col + j ascend because node columns do
-        return A
+    def _node_csr(self, values: np.ndarray) -> sp.csr_matrix:
+        """(n, n) CSR of one value per slot (the pattern's own arrays, not copied)."""
+        return sp.csr_matrix((values, self.indices, self.indptr), shape=(self.n_nodes,) * 2)
 
     def scatter(self, values: np.ndarray, elements: slice) -> np.ndarray:
         """Sum ``values`` (e, nn, nn, ...) of the chunk ``elements`` into pattern slots."""
         slots = self.slots[elements].reshape(-1)
         flat = np.ascontiguousarray(values, dtype=np.float64).reshape(len(slots), -1)
-        out = np.zeros((self.nnz_blocks, flat.shape[1]))
+        out = touched_zeros((self.nnz_blocks, flat.shape[1]))
         scatter_add(out, slots, flat)
         return out
 
     def block_matrix(self, blocks: np.ndarray) -> sp.csr_matrix:
-        """CSR (3n, 3n) from one 3x3 block per pattern slot."""
-        src = self._dof_order
-        rows = np.ascontiguousarray(blocks, dtype=np.float64).reshape(-1, 3)
-        data = np.take(rows, src, axis=0).reshape(-1)
-        col3 = np.take((3 * self.indices).astype(src.dtype), src // 3)
-        indices = np.zeros((len(src), 3), dtype=src.dtype)
-        np.add(col3[:, None], np.arange(3, dtype=src.dtype), out=indices)
-        return self._csr(data, indices.reshape(-1), 3)
+        """CSR (3n, 3n) from one 3x3 block per pattern slot.
+
+        The slots are the node-level CSR order, so ``blocks`` already is a block-sparse
+        (BSR) matrix; SciPy's compiled BSR -> CSR pass lays out the DOF rows in one sweep.
+        """
+        n3 = 3 * self.n_nodes
+        bsr = sp.bsr_matrix((np.ascontiguousarray(blocks, dtype=np.float64).reshape(-1, 3, 3),
+                             self.indices, self.indptr), shape=(n3, n3))
+        A = bsr.tocsr()
+        A.has_sorted_indices = True  # columns 3 col + j ascend because node columns do
+        return A
 
     def diagonal_block_matrix(self, values: np.ndarray) -> sp.csr_matrix:
-        """CSR (3n, 3n) of ``values (nnz,) (x) I3`` without storing the zero off-blocks."""
-        src = self._dof_order
-        slot = src // 3
-        data = np.take(np.asarray(values, dtype=np.float64), slot)
-        indices = np.take((3 * self.indices).astype(src.dtype), slot)
-        indices += src - 3 * slot
-        return self._csr(data, indices, 1)
+        """CSR (3n, 3n) of ``values (nnz,) (x) I3`` without storing the zero off-blocks.
+
+        DOF row ``3r + i`` is node row ``r`` with columns ``3 col + i``: the node matrix's
+        rows taken three times each (SciPy's compiled row gather), then columns spread.
+        """
+        n = self.n_nodes
+        rows = self._node_csr(np.asarray(values, dtype=np.float64))[np.repeat(np.arange(n), 3)]
+        component = np.repeat(np.tile(np.arange(3, dtype=rows.indices.dtype), n),
+                              np.diff(rows.indptr))
+        indices = rows.indices * rows.indices.dtype.type(3)
+        indices += component
+        A = sp.csr_matrix((rows.data, indices, rows.indptr), shape=(3 * n, 3 * n))
+        A.has_sorted_indices = True
+        return A
+
+
+def touched_zeros(shape) -> np.ndarray:
+    """Zeros written once front to back, for an array that is then added into at random.
+
+    A fresh ``np.zeros`` is mapped lazily: a random scatter then faults its pages in one
+    at a time in random order (two faults per page, read then write), which in a virtual
+    machine costs several times the scatter itself.  Filling an ``np.empty`` array in
+    order takes the faults in a sequential sweep (and lets NumPy's huge-page advice work).
+    """
+    out = np.empty(shape)
+    out.fill(0.0)
+    return out
