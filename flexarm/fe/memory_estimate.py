@@ -51,10 +51,11 @@ FACTOR_BYTES_PER_ENTRY = 9.0
 #: The same for a single-precision factor (the float32 value plus PARDISO's indices):
 #: estimate / measured 1.48 at 29k DOF, 1.16 at 1.0M (11.4 GB), 1.27 at 1.52M (17.2 GB).
 FACTOR_BYTES_PER_ENTRY_SINGLE = 4.5
-#: MUMPS needs more than PARDISO for the same fill (its default ICNTL(14) = 20-35 %
-#: workspace, plus the distributed copies of the matrix it receives): 1.4 x the 12 bytes
-#: an entry first assumed for PARDISO.
-MUMPS_OVERHEAD = 1.4 * 12.0 / FACTOR_BYTES_PER_ENTRY
+#: MUMPS's factor against PARDISO's for the same fill (its ICNTL(14) workspace and the
+#: distributed copy of the matrix it receives), fitted to whole measured PETSc peaks of CB
+#: reductions of Tet10 bars on one rank: estimate / measured 1.34 at 200k DOF (2.33 GB),
+#: 1.32 at 500k (7.38 GB), 1.22 at 1.0M (19.1 GB); per rank on two ranks 1.2-1.27.
+MUMPS_OVERHEAD = 1.25
 #: Sparse matrices alive at once during a reduction, in units of one K (CSR, 12 bytes an
 #: entry): K, M (a third of K's entries), the coupled copies, the interior blocks and
 #: PARDISO's upper triangle.
