@@ -138,7 +138,12 @@ def run(path: str, div, n_modes: int) -> dict | None:
     if proc.returncode != 0:
         # the worker's own one-line error, not the banner mpiexec prints after it
         lines = proc.stderr.strip().splitlines()
-        why = next((ln for ln in reversed(lines) if "Error:" in ln), lines[-1] if lines else "")
+        why = next((ln for ln in reversed(lines) if "Error:" in ln), "")
+        if not why:  # killed: mpiexec's banner names the signal
+            why = next((ln.strip() for ln in lines if "signal" in ln or "Killed" in ln),
+                       lines[-1] if lines else f"exit code {proc.returncode}")
+            if "signal 9" in why or "Killed" in why:
+                why += " (out of memory: see dmesg)"
         print(f"  {path}: failed: {why}")
         return None
     return json.loads(proc.stdout.strip().splitlines()[-1])

@@ -32,6 +32,7 @@ solve).
     python benchmarks/solvers.py            # clamped Tet4 link, ~66k DOF
     python benchmarks/solvers.py --tet10    # also the Tet10 version of the same link
     python benchmarks/solvers.py --quick    # small box, seconds
+    python benchmarks/solvers.py --bar 88x9x9   # the 191k-DOF Tet10 bar of reduction.py
 """
 
 from __future__ import annotations
@@ -56,14 +57,23 @@ SOLVER_LINK_SIZE = 0.011
 CLAMP_FRACTION = 0.02
 
 
-def problem(quick: bool, order: int):
-    """(K_ff, M_ff, description) of the clamped link (or a clamped box when ``quick``)."""
+def problem(quick: bool, order: int, bar: str | None = None):
+    """(K_ff, M_ff, description) of the clamped link (or a clamped box when ``quick``, or
+    the Tet10 bar of ``reduction.py`` with ``bar`` cells, e.g. ``88x9x9``: 191,691 DOF)."""
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from assembly import link_mesh, perturbed_box
 
     from flexarm.fe import MATERIALS, assemble, dof_split, node_dofs
 
-    found = None if quick else link_mesh(allow_meshing=True, size=SOLVER_LINK_SIZE)
+    if bar:
+        from flexarm.studies.part_study import bar_link
+
+        div = tuple(int(v) for v in bar.split("x"))
+        mesh, _ = bar_link(1.0, 0.12, div, order=2)
+        found = (mesh, f"Tet10 bar 1.0 x 0.12 x 0.12 m, {bar} cells")
+        order = 1  # already Tet10
+    else:
+        found = None if quick else link_mesh(allow_meshing=True, size=SOLVER_LINK_SIZE)
     mesh, what = found if found else perturbed_box(6_000 if quick else 100_000)
     if order == 2:
         mesh = mesh.to_tet10()
@@ -72,7 +82,8 @@ def problem(quick: bool, order: int):
     fixed = np.flatnonzero(mesh.points[:, axis] <= lo[axis] + CLAMP_FRACTION * (hi - lo)[axis])
     K, M = assemble(mesh, MATERIALS["steel"])
     split = dof_split(mesh.n_dofs, node_dofs(fixed))
-    what = f"{what}, Tet{4 if order == 1 else 10}, {mesh.n_tets} tets, {len(fixed)} clamped nodes"
+    what = (f"{what}, Tet{4 if mesh.order == 1 else 10}, {mesh.n_tets} tets, "
+            f"{len(fixed)} clamped nodes")
     return split.condense(K), split.condense(M), what
 
 
@@ -101,7 +112,7 @@ def _cpu() -> float:
 def worker(args) -> None:
     from flexarm.fe import modes, shift_invert
 
-    Kf, Mf, what = problem(args.quick, args.order)
+    Kf, Mf, what = problem(args.quick, args.order, args.bar)
     rng = np.random.default_rng(0)
     B = rng.standard_normal((Kf.shape[0], 20))
     out = {"what": what, "n": Kf.shape[0], "nnz": Kf.nnz}
@@ -171,7 +182,7 @@ def dump(args) -> None:
     """Write the problem's K_ff, M_ff for the SLEPc peer (another interpreter)."""
     import scipy.sparse as sp
 
-    Kf, Mf, what = problem(args.quick, args.order)
+    Kf, Mf, what = problem(args.quick, args.order, args.bar)
     sp.save_npz(os.path.join(args.dump, "K.npz"), Kf.tocsr())
     sp.save_npz(os.path.join(args.dump, "M.npz"), Mf.tocsr())
     print(json.dumps({"what": what, "n": Kf.shape[0], "nnz": Kf.nnz}))
@@ -227,7 +238,7 @@ def run_slepc(args, order: int, solver: str) -> dict | None:
         return None
     with tempfile.TemporaryDirectory() as tmp:
         common = ["--order", str(order), "--repeat", str(args.repeat), "--dump", tmp] + (
-            ["--quick"] if args.quick else [])
+            ["--quick"] if args.quick else []) + (["--bar", args.bar] if args.bar else [])
         made = subprocess.run([sys.executable, __file__, *common], capture_output=True,
                               text=True, check=False)
         res = subprocess.run([MPI_PYTHON, __file__, *common, "--slepc", solver],
@@ -259,6 +270,8 @@ def main(argv=None) -> int:
     ap.add_argument("--quick", action="store_true", help="a small box instead of the link")
     ap.add_argument("--tet10", action="store_true", help="also the Tet10 link (slow with splu)")
     ap.add_argument("--no-splu", action="store_true")
+    ap.add_argument("--bar", metavar="NXxNYxNZ",
+                    help="the Tet10 bar of reduction.py instead of the link (88x9x9: 191k DOF)")
     ap.add_argument("--repeat", type=int, default=3,
                     help="factorisations and eigen-solves per variant (best kept)")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
@@ -297,11 +310,12 @@ def main(argv=None) -> int:
                 continue
             if backend.split("-")[0] not in have or (backend.startswith("splu") and args.no_splu):
                 continue
-            if backend.startswith("splu") and order == 2 and not args.quick:
+            if backend.startswith("splu") and (order == 2 or args.bar) and not args.quick:
                 continue  # tens of GB and minutes (DESIGN §10: 218k DOF took 138 s, 10 GB)
             cmd = [sys.executable, __file__, "--worker", "1", "--backend", backend,
                    "--method", method, "--order", str(order), "--repeat", str(args.repeat)] + (
-                       ["--quick"] if args.quick else [])
+                       ["--quick"] if args.quick else []) + (
+                       ["--bar", args.bar] if args.bar else [])
             res = subprocess.run(cmd, capture_output=True, text=True, env={**os.environ, **env},
                                  check=False)
             if res.returncode != 0:
