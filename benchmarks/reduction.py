@@ -20,6 +20,7 @@ precision and refines every solve to double accuracy (half the factor's memory).
 from __future__ import annotations
 
 import argparse
+import os
 import threading
 import time
 from contextlib import contextmanager
@@ -121,6 +122,8 @@ def main() -> None:
     div = tuple(int(v) for v in args.divisions.split("x"))
     mesh, regions = bar_link(1.0, 0.12, div, order=2)
     steel = MATERIALS["steel"]
+    print(f"date {time.strftime('%Y-%m-%d %H:%M')}, load average {os.getloadavg()[0]:.1f} "
+          "at start (2 shared cores: read the ratio)")
     print(f"Tet10 bar 1.0 x 0.12 x 0.12 m, {div} cells: {mesh.n_tets} tets, "
           f"{mesh.n_dofs} DOF, {args.modes} modes, RBE2 at both ends", flush=True)
     table: list = []
@@ -135,6 +138,7 @@ def main() -> None:
     print(f"ours (couple .. projection): {t_ours:.2f} s; f1..f3 = "
           f"{', '.join(f'{f:.6f}' for f in freq[:3])} Hz", flush=True)
     if args.no_exudyn:
+        print(f"load average {os.getloadavg()[0]:.1f} at end")
         return
     import gc
 
@@ -146,6 +150,7 @@ def main() -> None:
     print(f"time ratio exudyn / ours: {t_ex / t_ours:.1f}x")
     print(f"largest relative difference of the {args.modes} fixed-interface frequencies: "
           f"{np.max(np.abs(f_ex[: len(freq)] / freq - 1)):.2e}")
+    print(f"load average {os.getloadavg()[0]:.1f} at end")
 
 
 if __name__ == "__main__":

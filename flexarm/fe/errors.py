@@ -13,6 +13,7 @@ __all__ = [
     "ReadError",
     "ConvergenceError",
     "MissingDependencyError",
+    "SingularMatrixError",
 ]
 
 
@@ -55,3 +56,7 @@ class MissingDependencyError(FlexarmError):
         super().__init__(f"the optional package '{package}' is needed{extra}: "
                          f"pip install {package}")
         self.package = package
+
+
+class SingularMatrixError(FlexarmError):
+    """The matrix is singular (for a stiffness: the part is not fully supported)."""

@@ -2,7 +2,7 @@
 
 The dominant term is the sparse factor of the interior stiffness.  Its fill is read from
 the analysis phase of the ordering that the factorisation itself uses (PARDISO's METIS
-nested dissection and symbolic factorisation, :func:`flexarm.fe.solvers.factor_size`),
+nested dissection and symbolic factorisation, :func:`flexarm.fe.pardiso.factor_size`),
 run on the *node* graph of the mesh: a third of the size and a ninth of the entries of
 the DOF matrix, so it takes a fraction of a second to a few seconds, and the DOF-level
 factor has ``9 L_nodes - 3 n_nodes`` entries (measured: 0.97-0.99 of the DOF-level
