@@ -219,17 +219,17 @@ def test_ellipsoid_is_drawn_at_the_moving_tcp_with_the_tool(box_robot):
     runs from the flange to it, and the caption states the principal values and scale."""
     from flexarm.assembly.arm import build_arm
     from flexarm.robot.kinematics import tcp_frame
-    from flexarm.studies.render_arm import _add_ellipsoid, _tcp_ellipsoid
+    from flexarm.studies.tcp_ellipsoid import add_ellipsoid, tcp_ellipsoid
 
     arm = build_arm(box_robot)
     q = box_robot.pose("P1")
     x = modes(arm.model, q).shapes[:, 0]
-    e = _tcp_ellipsoid(arm, q, x)
+    e = tcp_ellipsoid(arm, q, x)
     np.testing.assert_allclose(e.tcp, tcp_frame(arm.model.chain, q)[:3, 3], atol=1e-12)
     np.testing.assert_allclose(e.u, system_matrices(arm.model, q).G_tcp @ x)
     scale = 0.01 / np.linalg.norm(e.u[:3])  # 10 mm at the TCP, as the pictures draw it
     p = _Recorder()
-    moving = _add_ellipsoid(p, e, 0.2, scale)
+    moving = add_ellipsoid(p, e, 0.2, scale)
     (ell, _), (axes, _), (tool, _) = p.meshes
     np.testing.assert_allclose(np.asarray(ell.points).mean(axis=0), e.tcp + scale * e.u[:3],
                                atol=1e-9)
