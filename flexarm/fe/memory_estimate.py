@@ -20,7 +20,6 @@ skip the analysis: a generous closed-form bound already fits.
 from __future__ import annotations
 
 import logging
-import math
 import os
 from dataclasses import dataclass, replace
 
@@ -264,7 +263,10 @@ def _ranks() -> tuple[int, int]:
 
 
 def _cluster_hint(est: MemoryEstimate, available: float) -> str:
-    hosts = max(2, math.ceil(MUMPS_OVERHEAD * est.total_bytes / max(available, 1.0)))
+    hosts = next((n for n in range(2, 65) if est.per_rank_bytes(n) <= available), None)
+    if hosts is None:
+        return (f"even 64 machines like this one would need {_gb(est.per_rank_bytes(64))} "
+                "each: coarsen the mesh or use machines with more memory")
     return (f"reduce it across machines: mpiexec --hostfile hosts -n {hosts} --map-by node "
             f"flexarm reduce ... --backend petsc (at least {hosts} machines like this one, "
             "one rank each)")

@@ -160,3 +160,20 @@ def test_estimate_bounds_the_measured_peak(precision):
     got = json.loads(run.stdout.strip().splitlines()[-1])
     got["estimate"] = estimate
     assert got["growth"] <= got["estimate"] <= 2.0 * got["growth"], got
+
+
+def test_the_refusal_asks_for_the_fewest_machines_whose_share_fits():
+    """One rank per machine: the hint names the smallest N whose per-rank estimate fits
+    the memory here, and says so when no number of machines would (the share every rank
+    keeps bounds it from below)."""
+    mesh = TetMesh.box((1.0, 0.1, 0.1), (20, 2, 2), order=2)
+    est = estimate_memory(mesh, 10 + 12, analyse=True)
+    per_rank = [est.per_rank_bytes(n) for n in range(1, 9)]
+    assert all(a > b for a, b in zip(per_rank, per_rank[1:]))  # more machines, less each
+    assert per_rank[1] > 0.5 * per_rank[0]  # ... but not an even split
+    for n in (2, 3, 5):
+        avail = 0.5 * (per_rank[n - 1] + per_rank[n - 2])  # fits n ranks, not n - 1
+        with pytest.raises(InsufficientMemoryError, match=f"-n {n} --map-by node"):
+            plan_memory(mesh, 10, available=avail, precision="double")
+    with pytest.raises(InsufficientMemoryError, match="even 64 machines like this one"):
+        plan_memory(mesh, 10, available=0.9 * est.per_rank_bytes(64), precision="double")
