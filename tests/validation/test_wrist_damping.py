@@ -40,15 +40,15 @@ def _check(robot, base, seed: int):
     return diagnose_damping(modal, base, sigma_rel=0.05)
 
 
-@pytest.mark.slow
 def test_missing_wrist_damper_is_found_through_ema(base):
     """Joint 5's ratio at 1.5x the model's, FRFs (2 % noise) to 300 Hz at P1-P3, poles
-    from ``ema``, 5 % assumed scatter of a ratio, seeds 0-19: nothing is accepted on
-    damping-correct data (20/20), but joint 5 is named on only 13 of 20 seeds.  At P1
-    and P2 its two modes overlap (9 Hz apart, half-power bandwidths near 17 Hz): ``ema``
-    merges or splits them with ratios 20-40 % off, and the misfit they leave hides the
-    damper.  Joint 6 (its mode near 555 Hz turns the tool about its own axis) stays
-    unseen."""
+    from ``ema``, 5 % assumed scatter of a ratio clear of its neighbours, seeds 0-19: the
+    damper is named on 19 or more seeds and nothing is accepted on damping-correct data.
+    At P1 and P2 joint 5's two modes overlap (9 Hz apart, half-power bandwidths near
+    17 Hz) and ``ema`` gets their ratios 20-40 % wrong; weighted as if separated they hid
+    the damper on 7 of 20 seeds, and the check now widens a ratio's scatter by its modal
+    overlap (sweep: 20/20 for any widening factor from 0.5 to 5 times the overlap).
+    Joint 6 (its mode near 555 Hz turns the tool about its own axis) stays unseen."""
     nominal = np.array([j.model.damping_ratio for j in base.joints])
     z = nominal.copy()
     z[4] *= 1.5
@@ -58,6 +58,6 @@ def test_missing_wrist_damper_is_found_through_ema(base):
     quiet = sum(h.accepted == () for h in clean)
     print(f"\njoint-5 damper through ema: found {found}/20, nothing on correct data "  # noqa: T201
           f"{quiet}/20")
-    assert found >= 12 and quiet >= 19
+    assert found >= 19 and quiet >= 19
     assert all(h.accepted in ((), (4,)) for h in hits)
     assert np.isnan(hits[0].gains[5])
