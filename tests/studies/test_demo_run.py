@@ -36,9 +36,11 @@ def _relative(fname: str, root: str) -> str:
 
 @pytest.fixture(scope="module")
 def demo_figures(tmp_path_factory):
-    """``{path in the demo folder: Figure}`` of one in-process demo run."""
+    """``{path in the demo folder: Figure}`` of one in-process demo run, and
+    ``{path: title}`` of its 3-D renders of the arm (``RENDERS``)."""
     import matplotlib.figure
 
+    from flexarm.studies import render_arm
     from flexarm.studies.demo import run_demo
 
     saved = {}
@@ -48,14 +50,28 @@ def demo_figures(tmp_path_factory):
         saved[str(fname)] = self
         return real(self, fname, *args, **kwargs)
 
+    real_render = render_arm.render_arm
+
+    def render(fields, path=None, title="", *args, **kwargs):
+        RENDERS[str(path)] = title
+        return real_render(fields, path, title, *args, **kwargs)
+
     out = tmp_path_factory.mktemp("demo") / "flexarm-demo"
     mp = pytest.MonkeyPatch()
     mp.setattr(matplotlib.figure.Figure, "savefig", savefig)
+    mp.setattr(render_arm, "render_arm", render)
     try:
         run_demo(out, jobs=1)  # one process: every figure passes through this savefig
     finally:
         mp.undo()
+    renders = {_relative(f, out.name): t for f, t in RENDERS.items()}
+    RENDERS.clear()
+    RENDERS.update(renders)
     return out, {_relative(f, out.name): fig for f, fig in saved.items()}
+
+
+#: Titles of the demo's 3-D renders, by path in the demo folder (filled by demo_figures).
+RENDERS: dict = {}
 
 
 def _data_axes(fig):
@@ -133,6 +149,11 @@ def test_every_demo_picture_names_model_pose_units_and_series(demo_figures):
     assert len(drawn) >= 18
     problems = [p for name, fig in sorted(figures.items()) for p in _problems(name, fig)]
     assert not problems, "\n".join(problems)
+    # the 3-D renders (PNG and GIF) name model and pose in their titles too
+    renders = {str(p.relative_to(out)) for p in out.rglob("*") if p.suffix in (".png", ".gif")}
+    assert set(RENDERS) == renders - drawn and len(RENDERS) >= 2, (set(RENDERS), renders)
+    for name, title in RENDERS.items():
+        assert MODELS.search(title) and POSES.search(title), (name, title)
 
 
 def test_checker_catches_a_bare_picture(figures, tmp_path):
