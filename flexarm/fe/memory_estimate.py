@@ -55,11 +55,11 @@ FACTOR_BYTES_PER_ENTRY_SINGLE = 4.5
 #: reductions of Tet10 bars on one rank: estimate / measured 1.34 at 200k DOF (2.33 GB),
 #: 1.32 at 500k (7.38 GB), 1.22 at 1.0M (19.1 GB); per rank on two ranks 1.2-1.27.
 MUMPS_OVERHEAD = 1.25
-#: Share of the one-rank factor and matrices that each of several ranks holds beyond its
-#: 1/N part (the top of MUMPS's elimination tree and the gathered pieces are not split
-#: evenly): at 1.0M DOF on 2 ranks one rank was killed for memory at 13.3 GB, where an
-#: even split predicts 12.0 GB; with this share the estimate is 15.7 GB.
-RANK_IMBALANCE = 1.0 / 3.0
+#: Each of N ranks holds ``N ** -RANK_SHARE_EXPONENT`` of the one-rank factor and
+#: matrices, not ``1/N``: the top of MUMPS's elimination tree and the gathered pieces do
+#: not split evenly.  Fitted to the 2-rank run at 1.0M DOF that ran out of memory here
+#: (one rank killed at 13.3 GB, where an even split predicts 12.0 GB; this gives 16.0 GB).
+RANK_SHARE_EXPONENT = 0.57
 #: Sparse matrices alive at once during a reduction, in units of one K (CSR, 12 bytes an
 #: entry): K, M (a third of K's entries), the coupled copies, the interior blocks and
 #: PARDISO's upper triangle.
@@ -121,7 +121,7 @@ class MemoryEstimate:
 
     def per_rank_bytes(self, ranks: int) -> float:
         """Peak of one of ``ranks`` PETSc ranks [bytes] (rank 0 also gathers the basis)."""
-        share = 1.0 / ranks + RANK_IMBALANCE * (1.0 - 1.0 / ranks)
+        share = float(ranks) ** -RANK_SHARE_EXPONENT
         shared = (MUMPS_OVERHEAD * self.factor_bytes + self.sparse_bytes
                   + self.dense_bytes / 2) * share
         return shared + self.dense_bytes / 2
