@@ -71,7 +71,8 @@ def primitive_arm_robot(folder, mesher: str = "gmsh"):
         Joint("joint_3", "arm", "hub", (0.05, 0.6, 0.0), (0.0, 1.0, 0.0), *lim, spring),
     )
     return Robot("primitive arm", links, joints, tool=Tool(xyz=(0.0, 0.06, 0.0)),
-                 poses={"home": [0.0, 0.0, 0.0]}, options=ModelOptions(mesh_size=0.04, mesher=mesher))
+                 poses={"home": [0.0, 0.0, 0.0]},
+                 options=ModelOptions(mesh_size=0.04, mesher=mesher))
 
 
 def seat_centre(robot, link: str, region: str) -> np.ndarray:
