@@ -151,7 +151,7 @@ def test_every_demo_picture_names_model_pose_units_and_series(demo_figures):
     assert not problems, "\n".join(problems)
     # the 3-D renders (PNG and GIF) name model and pose in their titles too
     renders = {str(p.relative_to(out)) for p in out.rglob("*") if p.suffix in (".png", ".gif")}
-    assert set(RENDERS) == renders - drawn and len(RENDERS) >= 2, (set(RENDERS), renders)
+    assert set(RENDERS) >= renders - drawn and len(RENDERS) >= 2, (set(RENDERS), renders)
     for name, title in RENDERS.items():
         assert MODELS.search(title) and POSES.search(title), (name, title)
 
