@@ -14,6 +14,8 @@ __all__ = [
     "ConvergenceError",
     "MissingDependencyError",
     "SingularMatrixError",
+    "has_module",
+    "require",
 ]
 
 
@@ -60,3 +62,25 @@ class MissingDependencyError(FlexarmError):
 
 class SingularMatrixError(FlexarmError):
     """The matrix is singular (for a stiffness: the part is not fully supported)."""
+
+
+def has_module(package: str) -> bool:
+    """True when the optional ``package`` can be imported (it is not imported here)."""
+    import importlib.util
+
+    return importlib.util.find_spec(package) is not None
+
+
+def require(package: str, purpose: str = "") -> None:
+    """Raise :class:`MissingDependencyError` unless the optional ``package`` is importable.
+
+    >>> require("numpy")
+    >>> require("no_such_package_here", "this example")
+    Traceback (most recent call last):
+    ...
+    flexarm.fe.errors.MissingDependencyError: the optional package 'no_such_package_here' \
+is needed for this example: pip install no_such_package_here
+    """
+    if not has_module(package):
+        raise MissingDependencyError(package, purpose)
+

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import importlib.util
 import os
 import time
 from dataclasses import dataclass
@@ -17,13 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .errors import FlexarmError, MissingDependencyError, SingularMatrixError
+from .errors import FlexarmError, SingularMatrixError, require
 
 __all__ = ["FactorSize", "factor_size", "pardiso_factor"]
-
-
-def _has_pypardiso() -> bool:
-    return importlib.util.find_spec("pypardiso") is not None
 
 
 @dataclass(frozen=True)
@@ -65,8 +60,7 @@ def factor_size(A) -> FactorSize:
     >>> fs.n, 99 <= fs.factor_entries < 50 * 51 // 2  # at least L's band, far below dense
     (50, True)
     """
-    if not _has_pypardiso():
-        raise MissingDependencyError("pypardiso", "the factor-size analysis")
+    require("pypardiso", "the factor-size analysis")
     t0 = time.perf_counter()
     A = sp.csr_matrix(A, dtype=np.float64)
     ia, ja, _ = _pardiso_upper(A)
@@ -112,8 +106,7 @@ def _mkl_pardiso():
         except OSError:
             lib = None
     if lib is None:
-        if not _has_pypardiso():
-            raise MissingDependencyError("pypardiso", "the PARDISO backend")
+        require("pypardiso", "the PARDISO backend")
         from pypardiso import PyPardisoSolver
 
         lib = PyPardisoSolver().libmkl
@@ -133,8 +126,7 @@ def pardiso_factor(A: sp.csr_matrix, spd: bool, single: bool = False):
     ``iparm[27] = 1`` asks; ``solve`` still takes and returns float64.  MKL's memory for
     the factor is released when ``solve`` is garbage-collected.
     """
-    if not _has_pypardiso():
-        raise MissingDependencyError("pypardiso", "the PARDISO backend")
+    require("pypardiso", "the PARDISO backend")
     pardiso = _mkl_pardiso()
     ia, ja, data = _pardiso_upper(A)
     mtype = 2 if spd else -2  # PARDISO matrix types: real SPD, real symmetric indefinite

@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .errors import MissingDependencyError, SingularMatrixError
+from .errors import MissingDependencyError, SingularMatrixError, has_module
 from .pardiso import FactorSize, factor_size, pardiso_factor
 from .refinement import RefinementStats, refined_solver
 from .tolerances import tol
@@ -51,18 +51,12 @@ PRECISIONS = ("double", "single")
 _default: str | None = None
 
 
-def _has(module: str) -> bool:
-    import importlib.util
-
-    return importlib.util.find_spec(module) is not None
-
-
 def available_backends() -> list[str]:
     """Backends importable on this machine, fastest first."""
     out = []
-    if _has("pypardiso"):
+    if has_module("pypardiso"):
         out.append("pardiso")
-    if _has("sksparse"):
+    if has_module("sksparse"):
         out.append("cholmod")
     out.append("splu")
     return out

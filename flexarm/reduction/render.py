@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fe.errors import FlexarmError, MissingDependencyError
+from ..fe.errors import FlexarmError, require
 from ..fe.picture_cache import cached_picture
 from .recovery import mode_shape
 from .superelement import Superelement
@@ -69,13 +69,10 @@ def probe_key() -> str:
 
 @functools.lru_cache(maxsize=1)
 def _probed_backend() -> str:
-    import importlib.util
-
     from ..fe.cache import cached
 
     for mod in ("pyvista", "imageio"):
-        if importlib.util.find_spec(mod) is None:
-            raise MissingDependencyError(mod, "pictures")
+        require(mod, "pictures")
     # a subprocess render costs ~2 s; only a working answer is stored (a failure raises)
     window = cached("render-probe", probe_key(), _probe_windows).value
     os.environ["VTK_DEFAULT_OPENGL_WINDOW"] = window
