@@ -18,10 +18,11 @@ import time
 from flexarm.assembly.emodel import emodel
 from flexarm.robot.demo_arm import load_demo_robot
 from flexarm.robot.effects import parse_effect
-from flexarm.validation.diagnose import diagnose
-from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab
-from flexarm.validation.lab_faults import with_drift
-from flexarm.validation.modal import virtual_modal
+from flexarm.validation.data.load_plan import LabPlan, parse_dirs, parse_loads
+from flexarm.validation.diagnosis.search import diagnose
+from flexarm.validation.dynamic.modal import virtual_modal
+from flexarm.validation.lab.faults import with_drift
+from flexarm.validation.lab.virtual_lab import virtual_lab
 
 FLEX_MESH = 0.06
 

@@ -27,9 +27,9 @@ import numpy as np
 
 from flexarm.assembly.arm import ArmSpec, build_arm
 from flexarm.robot import load_robot
-from flexarm.studies.exudyn_impulse import impulse_test
-from flexarm.studies.exudyn_model import ffrf_links
-from flexarm.studies.exudyn_path import HOLD, exudyn_circle
+from flexarm.studies.exudyn.impulse import impulse_test
+from flexarm.studies.exudyn.model import ffrf_links
+from flexarm.studies.exudyn.path import HOLD, exudyn_circle
 
 
 def main() -> None:

@@ -5,6 +5,12 @@ Layer order (README, *Layout*): ``fe`` < ``meshes``, ``reduction`` < ``robot`` <
 ``assembly`` < ``validation`` < ``studies`` < ``cli``.  A module may import its own
 layer and the layers below; ``meshes`` and ``reduction`` are siblings and import neither
 each other.  Imports inside functions count the same as those at the top.
+
+Inside a layer, the sub-layer tables (:data:`SUBLAYERS`) order the sub-packages and
+modules of ``validation``, ``studies`` and ``studies.exudyn`` the same way: a member
+imports itself and members of lower rank only.  Members a table does not name take its
+``"*"`` rank and may import each other (the flat floor of ``studies``).  A package's
+``__init__`` re-exports its members and is not checked.
 """
 
 from __future__ import annotations
@@ -20,6 +26,15 @@ PACKAGE = Path(flexarm.__file__).parent
 #: layer -> rank; equal ranks are siblings
 LAYERS = {"fe": 0, "meshes": 1, "reduction": 1, "robot": 2, "assembly": 3, "validation": 4,
           "studies": 5, "cli": 6}
+
+#: package -> {member: rank}; a member is a direct sub-package or module of the package
+SUBLAYERS = {
+    "flexarm.validation": {"tolerances": 0, "models": 0, "data": 1, "static": 2, "dynamic": 3,
+                           "lab": 4, "planning": 4, "diagnosis": 4, "workflow": 5},
+    "flexarm.studies": {"tolerances": 0, "plots": 0, "contact": 1, "*": 2, "exudyn": 3},
+    "flexarm.studies.exudyn": {"bodies": 0, "damping": 0, "script": 0, "model": 1, "impulse": 2,
+                               "path": 2},
+}
 
 
 def _module_name(path: Path) -> str:
@@ -82,6 +97,34 @@ def violations(graph) -> list[str]:
     return out
 
 
+def sublayer_violations(graph, tables=SUBLAYERS) -> list[str]:
+    """One line per import between members of a package that points up its sub-layer
+    table or sideways between sibling members, and per member the table does not rank."""
+    out = []
+    for package, table in tables.items():
+        def member(module, package=package):
+            rest = module[len(package) + 1:] if module.startswith(package + ".") else None
+            return rest.split(".")[0] if rest else None
+
+        for module, targets in graph.items():
+            src = member(module)
+            if src is None:
+                continue
+            rank = table.get(src, table.get("*"))
+            if rank is None:
+                out.append(f"{module}: not in the sub-layer table of {package}")
+                continue
+            for line, target in targets:
+                dst = member(target)
+                if dst is None or dst == src:
+                    continue
+                dst_rank = table.get(dst, table.get("*"))
+                flat = src not in table and dst not in table
+                if dst_rank is None or (dst_rank >= rank and not flat):
+                    out.append(f"{module}:{line} ({src}) imports {target} ({dst})")
+    return out
+
+
 def cycles(graph) -> list[list[str]]:
     """Import cycles between modules (each as the list of modules around it)."""
     edges = {m: sorted({t for _, t in ts if t in graph and t != m}) for m, ts in graph.items()}
@@ -112,6 +155,22 @@ def test_every_import_points_down_the_layers():
     assert violations(_graph()) == []
 
 
+def test_every_import_points_down_the_sublayers():
+    assert sublayer_violations(_graph()) == []
+
+
+@pytest.mark.parametrize("package", sorted(SUBLAYERS))
+def test_every_member_of_a_sublayer_table_exists_and_says_what_it_may_import(package):
+    folder = PACKAGE.parent.joinpath(*package.split("."))
+    members = {p.stem for p in folder.glob("*.py") if p.stem != "__init__"}
+    members |= {p.parent.name for p in folder.glob("*/__init__.py")}
+    assert set(SUBLAYERS[package]) - {"*"} <= members
+    for sub in folder.glob("*/__init__.py"):
+        if f"{package}.{sub.parent.name}" in SUBLAYERS or package == "flexarm.validation":
+            doc = ast.get_docstring(ast.parse(sub.read_text())) or ""
+            assert "import" in doc, f"{sub}: the docstring says nothing of what it may import"
+
+
 def test_no_import_cycles():
     assert cycles(_graph()) == []
 
@@ -119,10 +178,23 @@ def test_no_import_cycles():
 def test_the_check_sees_an_upward_and_a_sibling_import():
     graph = {"flexarm.fe.mesh": [(3, "flexarm.assembly.system")],
              "flexarm.meshes.surface": [(4, "flexarm.reduction.tie")],
-             "flexarm.studies.demo": [(5, "flexarm.validation.diagnose")]}
+             "flexarm.studies.demo": [(5, "flexarm.validation.diagnosis.search")]}
     assert violations(graph) == [
         "flexarm.fe.mesh:3 (fe) imports flexarm.assembly.system (assembly)",
         "flexarm.meshes.surface:4 (meshes) imports flexarm.reduction.tie (reduction)"]
+
+
+def test_the_sublayer_check_sees_an_upward_a_sibling_and_an_unranked_import():
+    graph = {"flexarm.validation.data.units": [(3, "flexarm.validation.static.fit")],
+             "flexarm.validation.lab.faults": [(4, "flexarm.validation.diagnosis.search")],
+             "flexarm.validation.static.fit": [(5, "flexarm.validation.data.units")],
+             "flexarm.validation.extra": [(6, "flexarm.validation.data.units")],
+             "flexarm.studies.demo": [(7, "flexarm.studies.arm_study")]}
+    assert sublayer_violations(graph) == [
+        "flexarm.validation.data.units:3 (data) imports flexarm.validation.static.fit (static)",
+        "flexarm.validation.lab.faults:4 (lab) imports flexarm.validation.diagnosis.search "
+        "(diagnosis)",
+        "flexarm.validation.extra: not in the sub-layer table of flexarm.validation"]
 
 
 @pytest.mark.parametrize("loop", [["a", "b"], ["a", "b", "c"]])

@@ -36,13 +36,13 @@ def _add_max_hz(p: argparse.ArgumentParser) -> None:
          "damping across poses, written into a robot file", _add_fit_damping)
 def _run_fit_damping(args) -> int:
     from ..robot.formats import write as write_robot
-    from ..validation.damping_fit import fit_damping
+    from ..validation.dynamic.damping_fit import fit_damping
 
     output = Path(args.output)
     if output.suffix.lower() != ".toml":
         raise ValueError(f"--output {output}: the robot file must be a .toml")
     if args.method == "modal":
-        from ..validation.pose_damping import store_modal_damping
+        from ..validation.dynamic.pose_damping import store_modal_damping
 
         stored = store_modal_damping(args.modal, args.robot, max_hz=args.max_hz)
         out(stored.text())
@@ -70,7 +70,7 @@ def _add_check_damping(p: argparse.ArgumentParser) -> None:
 @command("check-damping", "which joints miss damping: measured ratios that rise in the "
          "modes one joint dominates, at every pose", _add_check_damping)
 def _run_check_damping(args) -> int:
-    from ..validation.damping_check import diagnose_damping
+    from ..validation.dynamic.damping_check import diagnose_damping
 
     if not 0 < args.sigma_pct < 100:
         raise ValueError(f"--sigma-pct {args.sigma_pct}: must lie in (0, 100)")

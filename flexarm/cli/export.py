@@ -65,8 +65,8 @@ def _add_export_exudyn(p: argparse.ArgumentParser) -> None:
 @command("export-exudyn", "the arm as an Exudyn flexible-multibody model (script), checked "
          "against flexarm's frequencies and compliance", _add_export_exudyn)
 def _run_export_exudyn(args) -> int:
-    from ..studies.exudyn_model import exudyn_check, require_exudyn
-    from ..studies.exudyn_script import write_exudyn_script
+    from ..studies.exudyn.model import exudyn_check, require_exudyn
+    from ..studies.exudyn.script import write_exudyn_script
 
     if not str(args.output).endswith(".py"):
         raise ValueError(f"{args.output}: the Exudyn model is written as a Python script (.py)")
@@ -100,8 +100,8 @@ def _add_exudyn_impulse(p: argparse.ArgumentParser) -> None:
          "peaks and log-decrement damping against flexarm's modes, U/F against the FRF",
          _add_exudyn_impulse)
 def _run_exudyn_impulse(args) -> int:
-    from ..studies.exudyn_impulse import impulse_test
-    from ..studies.exudyn_model import require_exudyn
+    from ..studies.exudyn.impulse import impulse_test
+    from ..studies.exudyn.model import require_exudyn
 
     direction = floats(args.direction, "--direction")
     if len(direction) != 3 or not any(direction):
@@ -140,8 +140,8 @@ def _add_exudyn_circle(p: argparse.ArgumentParser) -> None:
          "driven through their gear springs, gravity on) against the quasi-static circle",
          _add_exudyn_circle)
 def _run_exudyn_circle(args) -> int:
-    from ..studies.exudyn_model import require_exudyn
-    from ..studies.exudyn_path import exudyn_circle
+    from ..studies.exudyn.model import require_exudyn
+    from ..studies.exudyn.path import exudyn_circle
 
     if args.speed is not None and args.speed <= 0:
         raise ValueError(f"--speed must be > 0 mm/s, got {args.speed:g}")

@@ -24,8 +24,8 @@ def _add_ema(p: argparse.ArgumentParser) -> None:
 @command("ema", "modal parameters (frequency, damping, shapes) from measured FRFs: LSCF + "
          "LSFD, stabilisation diagram, synthesised vs measured FRF", _add_ema)
 def _run_ema(args) -> int:
-    from ..validation.ema import run_ema
-    from ..validation.formats import registry
+    from ..validation.data.formats import registry
+    from ..validation.dynamic.ema import run_ema
 
     lo = hi = None
     if args.band:

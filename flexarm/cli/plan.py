@@ -30,7 +30,7 @@ def _add_plan(p: argparse.ArgumentParser) -> None:
          "hypotheses by their expected ΔBIC; writes a CSV template and a RAPID module",
          _add_plan)
 def _run_plan(args) -> int:
-    from ..validation.plan_test import plan_test
+    from ..validation.planning.plan_test import plan_test
 
     hyps = [h.strip() for h in args.hypotheses.split(";") if h.strip()]
     plan = plan_test(args.robot, args.data, hyps, args.series, loads=args.loads,

@@ -62,7 +62,7 @@ def _band(text: str | None) -> tuple | None:
 @command("lab", "virtual lab: static series from the model + hidden effects + tracker noise",
          _add_lab)
 def _run_lab(args) -> int:
-    from ..validation.lab import run_lab
+    from ..validation.lab.virtual_lab import run_lab
 
     lab = run_lab(args.robot, args.effect, _options(args), noise=args.noise, poses=args.poses,
                   loads=args.loads, dirs=args.dirs, cycles=args.cycles, seed=args.seed,

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["text_table"]
+__all__ = ["text_table", "eta_text"]
 
 
 def text_table(headers: list[str], rows: list[list], floatfmt: str = "{:.6g}") -> str:
@@ -25,3 +25,18 @@ def text_table(headers: list[str], rows: list[list], floatfmt: str = "{:.6g}") -
     out = [line, "  ".join("-" * w for w in widths)]
     out += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=False)) for r in cells]
     return "\n".join(out)
+
+
+def eta_text(elapsed: float, done: int, total: int) -> str:
+    """``", ETA 1 min 20 s"``: the rest of ``total`` items at the mean rate of the ``done``
+    ones so far (``elapsed`` [s]); empty when all are done.
+
+    Examples
+    --------
+    >>> eta_text(30.0, 3, 11), eta_text(5.0, 2, 3), eta_text(9.0, 3, 3)
+    (', ETA 1 min 20 s', ', ETA 2 s', '')
+    """
+    if done >= total or done <= 0:
+        return ""
+    left = round(elapsed / done * (total - done))
+    return f", ETA {left // 60} min {left % 60} s" if left >= 60 else f", ETA {left} s"

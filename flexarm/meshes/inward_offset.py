@@ -31,7 +31,7 @@ from scipy.optimize import linprog
 from scipy.spatial import ConvexHull, HalfspaceIntersection, QhullError
 
 from ..fe.errors import MeshError
-from .repair import check_surface
+from .repair import check_surface, winding_number
 from .tolerances import tol
 
 __all__ = ["BALL_SEGMENTS"]
@@ -204,21 +204,6 @@ def _flip_once(faces: np.ndarray, flat: np.ndarray, k: np.ndarray,
     return faces
 
 
-def _winding_number(point: np.ndarray, triangles: np.ndarray) -> float:
-    """How often the closed surface of ``triangles`` (F, 3, 3) winds around ``point``.
-
-    1 inside an outward-wound surface, 0 outside: the solid angles of all faces seen from
-    the point (Van Oosterom & Strackee), summed.  Exact for any closed surface, however
-    non-convex, and robust for points not on it.
-    """
-    a, b, c = np.moveaxis(triangles - point, 1, 0)
-    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
-    det = np.einsum("ij,ij->i", a, np.cross(b, c))
-    dot = lambda u, v: np.einsum("ij,ij->i", u, v)  # noqa: E731
-    den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb
-    return float(np.arctan2(det, den).sum() / (2 * np.pi))
-
-
 def _stack(meshes: Sequence[trimesh.Trimesh]) -> trimesh.Trimesh:
     """One mesh of several bodies, each body's vertices and faces as they were."""
     offsets = np.cumsum([0] + [len(m.vertices) for m in meshes[:-1]])
@@ -315,7 +300,7 @@ class _Solid:
             # Clear of the surface, the (convex, connected) cavity is either all inside
             # or all in a pocket between surface and hull: its centre tells which.
             triangles = self.vertices[self.faces]
-            self._inside = _winding_number(self.center, triangles) > 0.5
+            self._inside = winding_number(self.center, triangles) > 0.5
         return self._inside
 
     # --------------------------------------------------------------- general cavity

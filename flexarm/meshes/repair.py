@@ -17,7 +17,7 @@ from ..fe.tolerances import tol as fe_tol
 from .tolerances import tol
 
 __all__ = ["repair_surface", "check_surface", "merge_digits", "MAX_FILLED_AREA",
-           "MAX_FILLED_VOLUME"]
+           "MAX_FILLED_VOLUME", "winding_number"]
 
 logger = logging.getLogger(__name__)
 
@@ -212,3 +212,18 @@ def check_surface(surface: trimesh.Trimesh, name: str = "surface", repaired: boo
             f"{name}: the surface encloses zero or negative volume ({volume:.3g} m^3){hint}"
         )
     logger.debug("%s: closed surface, %d faces, %.4g m^3", name, len(surface.faces), volume)
+
+
+def winding_number(point: np.ndarray, triangles: np.ndarray) -> float:
+    """How often the closed surface of ``triangles`` (F, 3, 3) winds around ``point``.
+
+    1 inside an outward-wound surface, 0 outside: the solid angles of all faces seen from
+    the point (Van Oosterom & Strackee), summed.  Exact for any closed surface, however
+    non-convex, and robust for points not on it.
+    """
+    a, b, c = np.moveaxis(triangles - point, 1, 0)
+    la, lb, lc = (np.linalg.norm(v, axis=1) for v in (a, b, c))
+    det = np.einsum("ij,ij->i", a, np.cross(b, c))
+    dot = lambda u, v: np.einsum("ij,ij->i", u, v)  # noqa: E731
+    den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb
+    return float(np.arctan2(det, den).sum() / (2 * np.pi))

@@ -158,7 +158,7 @@ class Robot:
     kind backlash, hardening or hysteresis); linear analyses ignore them.
     ``modal_damping`` maps a pose name to the modal damping ratios identified there,
     ``(freq_hz, zeta)`` tuples (``fit-damping --method modal``); the FRF at that pose
-    uses them (:mod:`flexarm.validation.pose_damping`).
+    uses them (:mod:`flexarm.validation.dynamic.pose_damping`).
     """
 
     name: str

@@ -42,6 +42,7 @@ from ..assembly.build import BuildOptions, LinkBuild, Mesher, build_robot, link_
 from ..assembly.flexible import flexible_arm
 from ..fe.cache import cache_key, cached
 from ..fe.files import atomic_path
+from ..fe.text import eta_text
 from ..fe.typing import FloatArray
 from ..robot.description import Robot
 from .arm_study_plots import plot_error_vs_dof, plot_pareto
@@ -342,21 +343,6 @@ def run_study(robot: Robot, pose: str = "P1", sizes: Sequence[float] | None = No
     if out_dir is not None:
         result = dataclasses.replace(result, files=write_study(result, out_dir))
     return result
-
-
-def eta_text(elapsed: float, done: int, total: int) -> str:
-    """``", ETA 1 min 20 s"``: the rest of ``total`` items at the mean rate of the ``done``
-    ones so far (``elapsed`` [s]); empty when all are done.
-
-    Examples
-    --------
-    >>> eta_text(30.0, 3, 11), eta_text(5.0, 2, 3), eta_text(9.0, 3, 3)
-    (', ETA 1 min 20 s', ', ETA 2 s', '')
-    """
-    if done >= total or done <= 0:
-        return ""
-    left = round(elapsed / done * (total - done))
-    return f", ETA {left // 60} min {left % 60} s" if left >= 60 else f", ETA {left} s"
 
 
 def write_study(result: StudyResult, out_dir) -> tuple[Path, ...]:

@@ -1,9 +1,9 @@
 """The demo's measurement step: shipped lab data with a hidden effect, compared with the
 nominal E-model, diagnosed, built into an updated robot file, and compared again.
 
-Every stage is the validation API (:func:`~flexarm.validation.compare.compare_static`,
-:func:`~flexarm.validation.diagnose.diagnose`,
-:func:`~flexarm.validation.history.robot_with_effects`) and the robot file formats; the
+Every stage is the validation API (:func:`~flexarm.validation.static.compare.compare_static`,
+:func:`~flexarm.validation.diagnosis.search.diagnose`,
+:func:`~flexarm.validation.diagnosis.history.robot_with_effects`) and the robot file formats; the
 updated file carries its fitted nonlinear effects in ``Robot.effects``, so the second
 comparison reads them back from the file rather than from the diagnosis.
 """
@@ -19,8 +19,8 @@ from ..robot import load_robot
 from .demo_results import Progress, StepResult
 
 if TYPE_CHECKING:
-    from ..validation.compare import Comparison
-    from ..validation.diagnose import Diagnosis
+    from ..validation.diagnosis.search import Diagnosis
+    from ..validation.static.compare import Comparison
 
 __all__ = ["LAB_DATA", "measurement_step"]
 
@@ -37,9 +37,9 @@ def measurement_step(out: Path, progress: Progress) -> StepResult:
     """
     from ..robot.formats import read, write
     from ..validation import read_measurements
-    from ..validation.compare import compare_static, write_report
-    from ..validation.diagnose import diagnose
-    from ..validation.history import robot_with_effects, write_history
+    from ..validation.diagnosis.history import robot_with_effects, write_history
+    from ..validation.diagnosis.search import diagnose
+    from ..validation.static.compare import compare_static, write_report
 
     data_path = out / "measurements.csv"
     data_path.write_bytes((files("flexarm") / "data" / "lab" / LAB_DATA).read_bytes())

@@ -9,10 +9,22 @@ and column.  The jobs: :func:`run_lab` (virtual lab data with hidden effects),
 :func:`compare` (model vs data: errors, chi^2_red, plots) and :func:`run_diagnosis`
 (fit, rank candidate effects, accept, repeat), on the models of
 :func:`validation_models`.
+
+The sub-packages, each importing only those above it in this list:
+
+- ``tolerances``, ``models``: the rules of the diagnosis and the models it works on;
+- :mod:`~flexarm.validation.data`: measurement sets, their files, units and points;
+- :mod:`~flexarm.validation.static`: the GLS fit, candidates, residual structure, misfit;
+- :mod:`~flexarm.validation.dynamic`: modal model, pairing, EMA, MAC and shapes, damping;
+- :mod:`~flexarm.validation.lab`, :mod:`~flexarm.validation.planning`,
+  :mod:`~flexarm.validation.diagnosis` (siblings): the virtual lab, test planning, the
+  diagnosis search and its history;
+- ``workflow``: the functions the command line calls.
 """
 
-from . import formats, units
-from .formats import (
+
+from .data import formats, units
+from .data.formats import (
     MeasurementFileError,
     example_path,
     read_frf,
@@ -26,10 +38,10 @@ from .formats import (
     write_path,
     write_static,
 )
-from .lab import LabResult, run_lab
-from .measurements import DIRECTIONS, FrfData, ModalData, PathData, StaticData
+from .data.measurements import DIRECTIONS, FrfData, ModalData, PathData, StaticData
+from .data.units import QUANTITIES, accepted_units, parse_quantity, si_factor
+from .lab.virtual_lab import LabResult, run_lab
 from .models import ValidationModels, ValidationOptions, validation_models
-from .units import QUANTITIES, accepted_units, parse_quantity, si_factor
 from .workflow import DiagnosisRun, compare, run_diagnosis
 
 __all__ = [

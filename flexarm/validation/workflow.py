@@ -3,7 +3,7 @@ from a measurement file and a robot to a result with ``text()`` and writers.
 
 Noise options keep the commands' units (tracker noise in µm, frequency noise in %) so
 that a command passes its options through unchanged.  The virtual lab is
-:func:`~flexarm.validation.lab.run_lab`.
+:func:`~flexarm.validation.lab.virtual_lab.run_lab`.
 """
 
 from __future__ import annotations
@@ -17,17 +17,17 @@ import numpy as np
 from ..fe.typing import PathType
 from ..robot.description import Robot
 from ..robot.formats import write as write_robot_file
-from .compare import Comparison, compare_static
-from .compare_dynamic import FrfComparison, ModalComparison, compare_frf, compare_modal
-from .compare_shapes import compare_with_models, measurement_points, shape_builds
-from .damping_check import DampingDiagnosis, diagnose_damping
-from .diagnose import Diagnosis, diagnose
-from .formats import read_measurements
-from .history import robot_with_effects, write_history
-from .measurements import FrfData, ModalData, PathData, StaticData
+from .data.formats import read_measurements
+from .data.measurements import FrfData, ModalData, PathData, StaticData
+from .data.shape_data import ShapeData
+from .diagnosis.history import robot_with_effects, write_history
+from .diagnosis.search import Diagnosis, diagnose
+from .dynamic.compare import FrfComparison, ModalComparison, compare_frf, compare_modal
+from .dynamic.compare_shapes import compare_with_models, measurement_points, shape_builds
+from .dynamic.damping_check import DampingDiagnosis, diagnose_damping
+from .dynamic.shape_fit import SHAPE_NOISE
 from .models import DEFAULT_OPTIONS, ValidationModels, ValidationOptions, load, validation_models
-from .shape_data import ShapeData
-from .shape_fit import SHAPE_NOISE
+from .static.compare import Comparison, compare_static
 
 __all__ = ["compare", "DiagnosisRun", "run_diagnosis"]
 

@@ -7,9 +7,9 @@ import numpy as np
 from flexarm.cli import main
 from flexarm.robot.demo_arm import load_demo_robot
 from flexarm.robot.formats import read as read_robot
-from flexarm.validation.damping_fit import robot_with_damping
-from flexarm.validation.formats import write_modal
-from flexarm.validation.lab import run_lab
+from flexarm.validation.data.formats import write_modal
+from flexarm.validation.dynamic.damping_fit import robot_with_damping
+from flexarm.validation.lab.virtual_lab import run_lab
 
 TRUE = [0.01, 0.03, 0.02, 0.05, 0.04, 0.06]
 

@@ -6,7 +6,7 @@ import numpy as np
 
 from flexarm.cli import main
 from flexarm.robot.formats.rapid import read_rapid
-from flexarm.validation.formats import read_static
+from flexarm.validation.data.formats import read_static
 
 
 def test_cli_plan_test(tmp_path, capsys):

@@ -12,7 +12,7 @@ from flexarm.robot.demo_arm import load_demo_robot
 from flexarm.robot.effects import parse_effect
 from flexarm.robot.formats import write as write_robot
 from flexarm.validation import read_measurements, write_frf
-from flexarm.validation.history import robot_with_effects
+from flexarm.validation.diagnosis.history import robot_with_effects
 from flexarm.validation.workflow import compare
 
 from ..validation.helpers import PERTURB, frf_data

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from flexarm.robot.effects import parse_effect
-from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab
+from flexarm.validation.data.load_plan import LabPlan, parse_dirs, parse_loads
+from flexarm.validation.lab.virtual_lab import virtual_lab
 
 from .helpers import PERTURB
 

@@ -30,7 +30,7 @@ def frf_data(arm, robot, effects=()) -> FrfData:
 def lab_shapes(robot, n_modes: int = 12):
     """``n_modes`` modes at P1-P3 of ``robot``'s E-model: frequencies, damping ratios and
     shapes as the virtual lab measures them."""
-    from flexarm.validation.lab import run_lab
+    from flexarm.validation.lab.virtual_lab import run_lab
 
     return run_lab(robot, poses="P1,P2,P3", loads="0:100:100", dirs="z", modal=True,
                    n_modes=n_modes).shapes

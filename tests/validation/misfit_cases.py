@@ -6,13 +6,14 @@ from __future__ import annotations
 import numpy as np
 
 from flexarm.robot.effects import parse_effect
-from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, virtual_lab
-from flexarm.validation.lab_faults import (
+from flexarm.validation.data.load_plan import LabPlan, parse_dirs, parse_loads
+from flexarm.validation.lab.faults import (
     with_drift,
     with_joint_law,
     with_outliers,
     with_stated_sigma,
 )
+from flexarm.validation.lab.virtual_lab import virtual_lab
 
 from .helpers import PERTURB
 

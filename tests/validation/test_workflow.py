@@ -10,17 +10,18 @@ import pytest
 
 from flexarm.robot.effects import Effect, parse_effect
 from flexarm.validation import example_path, read_measurements, write_frf
-from flexarm.validation.compare import Comparison, compare_static
-from flexarm.validation.compare_dynamic import (
+from flexarm.validation.data.load_plan import LabPlan, parse_dirs, parse_loads
+from flexarm.validation.diagnosis.history import robot_with_effects
+from flexarm.validation.dynamic.compare import (
     FrfComparison,
     ModalComparison,
     compare_frf,
     compare_modal,
 )
-from flexarm.validation.history import robot_with_effects
-from flexarm.validation.lab import LabPlan, parse_dirs, parse_loads, run_lab, virtual_lab
-from flexarm.validation.modal import virtual_modal
+from flexarm.validation.dynamic.modal import virtual_modal
+from flexarm.validation.lab.virtual_lab import run_lab, virtual_lab
 from flexarm.validation.models import ValidationModels, ValidationOptions, validation_models
+from flexarm.validation.static.compare import Comparison, compare_static
 from flexarm.validation.workflow import compare, run_diagnosis
 
 from .helpers import frf_data
@@ -150,7 +151,7 @@ def test_history_csv_holds_every_plotted_bar_from_the_nominal_model(tmp_path, de
                                                                     figures):
     import csv
 
-    from flexarm.validation.history import write_history
+    from flexarm.validation.diagnosis.history import write_history
 
     run = run_diagnosis(lab(["base:k=1e7"], poses=("P1", "P2"), dirs="x,y,z",
                             loads="0:800:200", seed=3, perturb=(1,) * 6))

@@ -33,10 +33,10 @@ from ..description import (
     Robot,
     Tool,
 )
-from ..effects import Effect
 from ..joints import JointModel
 from . import toml_keys as tk
 from .toml_modal_damping import modal_damping_from_table, modal_damping_table
+from .toml_nonlinear import nonlinear_effects, nonlinear_table
 
 __all__ = ["read", "write", "dumps", "FORMAT_VERSION"]
 
@@ -177,45 +177,6 @@ def _joint_model(m: dict, key: str) -> JointModel:
     )
 
 
-#: [nonlinear.<joint>] keys per effect kind: (file key, effect parameter)
-_NONLINEAR_KEYS = {
-    "backlash": (("backlash_rad", "width"),),
-    "hardening": (("hardening_extra_rad_per_Nm", "extra"), ("hardening_threshold_Nm", "threshold")),
-    "hysteresis": (("hysteresis_lost_rad", "lost"), ("hysteresis_radius_Nm", "radius")),
-}
-
-
-def _nonlinear_effects(table: dict, joint_names: list[str]) -> tuple[Effect, ...]:
-    """Effects of the ``[nonlinear]`` table, joint by joint in file order."""
-    allowed = {key for keys in _NONLINEAR_KEYS.values() for key, _ in keys}
-    effects = []
-    for jname, d in table.items():
-        where = f"nonlinear.{jname}"
-        if jname not in joint_names:
-            raise ValueError(f"{where}: no such joint (have {joint_names})")
-        if not isinstance(d, dict):
-            raise ValueError(f"{where} must be a table, got {d!r}")
-        tk.check_keys(d, allowed, where)
-        for kind, keys in _NONLINEAR_KEYS.items():
-            if keys[0][0] not in d:
-                continue
-            missing = [key for key, _ in keys if key not in d]
-            if missing:
-                raise ValueError(f"{where}.{missing[0]} is required with {keys[0][0]}")
-            effects.append(Effect(kind, joint_names.index(jname),
-                                  tuple((name, float(d[key])) for key, name in keys)))
-    return tuple(effects)
-
-
-def _nonlinear_table(robot: Robot) -> dict:
-    """The ``[nonlinear]`` table of ``robot.effects`` (empty when there are none)."""
-    table: dict = {}
-    for e in robot.effects:
-        d = table.setdefault(robot.joint_names[e.joint], {})
-        d.update({key: e.get(name) for key, name in _NONLINEAR_KEYS[e.kind]})
-    return table
-
-
 def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
     """Build a :class:`Robot` from parsed TOML ``data``; mesh paths relative to ``folder``."""
     version = data.get("format_version", FORMAT_VERSION)
@@ -256,7 +217,7 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
         wrist_coupling=tuple(map(tuple, w["coupling"])) if "coupling" in w else None,
         wrist_stiffness=tuple(map(tuple, w["stiffness"])) if "stiffness" in w else None,
         source=source,
-        effects=_nonlinear_effects(tk.table(data, "nonlinear", ""), joint_names),
+        effects=nonlinear_effects(tk.table(data, "nonlinear", ""), joint_names),
         modal_damping=modal_damping_from_table(tk.table(data, "modal_damping", "")),
     )
 
@@ -371,7 +332,7 @@ def to_dict(robot: Robot, folder: Path) -> dict:
         out["wrist"] = wrist
     out["links"] = links
     out["joints"] = joints
-    nonlinear = _nonlinear_table(robot)
+    nonlinear = nonlinear_table(robot)
     if nonlinear:
         out["nonlinear"] = nonlinear
     if robot.modal_damping:

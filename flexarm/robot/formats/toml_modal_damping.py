@@ -7,7 +7,7 @@ named poses, one sub-table per pose::
 
 ``flexarm fit-damping modal.csv --method modal`` writes it; the FRF at that pose uses
 these ratios for the model modes they match by frequency
-(:mod:`flexarm.validation.pose_damping`), the joints' damping everywhere else.
+(:mod:`flexarm.validation.dynamic.pose_damping`), the joints' damping everywhere else.
 """
 
 from __future__ import annotations

@@ -6,8 +6,8 @@ import pytest
 from flexarm.studies.contact.ball_bar import measured_deviation, predict_circle, rapid_circle
 from flexarm.studies.contact.circle_data import static_circle_readings, synthetic_static_circle
 from flexarm.validation import read_measurements
-from flexarm.validation.formats import write_static
-from flexarm.validation.measurements import StaticData
+from flexarm.validation.data.formats import write_static
+from flexarm.validation.data.measurements import StaticData
 
 EXAMPLE = files("flexarm") / "data" / "examples" / "circle_static_example.csv"
 

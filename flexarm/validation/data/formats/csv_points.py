@@ -1,0 +1,50 @@
+"""Measurement points table: ``node, link, x_mm, y_mm, z_mm``.
+
+One row per node of the test geometry: the body it is fixed to (``0`` = base, ``i`` =
+link ``i``) and its position in that body's link frame ``L_i`` (the URDF link frame
+at zero joint angles).  This is not a measurement kind (nothing is measured in it):
+it maps the nodes of universal files and of mode-shape CSVs onto the arm.  Checked
+on reading: each node once, ``link`` ≥ 0.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ....fe.typing import PathType
+from ..shape_data import Points
+from ._checks import check_positive, check_unique
+from ._table import Field, Schema, read_table, vector, write_table
+
+__all__ = ["SCHEMA", "read_points", "write_points"]
+
+SCHEMA = Schema("points", (Field("node", "int"), Field("link", "int"),
+                           *vector("", "length", "mm")), noun="a measurement points table")
+
+
+def read_points(path: PathType) -> Points:
+    """Read a points table.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "points.csv"
+    >>> _ = f.write_text("node,link,x_mm,y_mm,z_mm\\n1,2,0,0,450\\n2,6,100,0,0\\n")
+    >>> read_points(f).positions[:, 2].tolist()
+    [0.45, 0.0]
+    """
+    table = read_table(path, SCHEMA.vocabulary)
+    v = table.parse(SCHEMA)
+    check_unique(table, [v["node"]], "node", lambda i: f"node {v['node'][i]}")
+    check_positive(table, v["link"], "link", "link index (0 = base)", strict=False)
+    return Points(nodes=v["node"], links=v["link"],
+                  positions=np.column_stack([v["x"], v["y"], v["z"]]))
+
+
+def write_points(path: PathType, points: Points, comments=()) -> Path:
+    """Write ``points`` in mm, atomically; reading it back gives equal arrays."""
+    values = {"node": points.nodes, "link": points.links}
+    values.update({c: points.positions[:, k] for k, c in enumerate("xyz")})
+    return write_table(path, SCHEMA, values, comments)

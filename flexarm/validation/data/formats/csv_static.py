@@ -1,0 +1,96 @@
+"""Static load-deflection series: ``series, step, q1_deg … q6_deg, fx_N … dz_mm``.
+
+Columns (any accepted unit suffix; canonical units shown)::
+
+    series, step, q1_deg … q6_deg, fx_N, fy_N, fz_N, dx_mm, dy_mm, dz_mm
+    optional: mx_Nm, my_Nm, mz_Nm, rx_mrad, ry_mrad, rz_mrad, sigma_mm
+
+Rules, checked on reading:
+
+- the rows of a series are contiguous and its ``step`` increases strictly, in
+  measurement order (load/unload order is kept, it carries hysteresis);
+- the first row of a series (its smallest step) is the **reference reading**: every
+  displacement is relative to it, so its ``dx, dy, dz`` (and ``rx, ry, rz``) must be
+  exactly 0.  A nonzero value means absolute positions or a shifted reference, which
+  the analysis would otherwise mistake for an effect;
+- ``sigma`` > 0; joint angles inside ``limits`` when given.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ....fe.typing import ArrayLike, PathType
+from ..measurements import StaticData, first_rows
+from ._checks import check_contiguous, check_increasing, check_limits, check_positive
+from ._table import Field, Schema, Table, joints, read_table, table_frame, vector, write_table
+
+__all__ = ["SCHEMA", "DATA", "from_table", "read", "write", "values", "to_dataframe"]
+
+SCHEMA = Schema("static", (
+    Field("series", "label"), Field("step", "int"), *joints(),
+    *vector("f", "force", "N"), *vector("d", "length", "mm"),
+    *vector("m", "moment", "Nm", required=False), *vector("r", "angle", "mrad", required=False),
+    Field("sigma", "real", "length", "mm", required=False),
+))
+DATA = StaticData
+
+
+def _stack(values: dict, prefix: str) -> np.ndarray | None:
+    if prefix + "x" not in values:
+        return None
+    return np.column_stack([values[prefix + c] for c in "xyz"])
+
+
+def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = False
+               ) -> StaticData:
+    """Check and convert a read table into :class:`StaticData`."""
+    v = table.parse(SCHEMA, guessed)
+    series, steps = v["series"], v["step"]
+    check_contiguous(table, series, "series", "series")
+    check_increasing(table, series, steps, "series")
+    disp, rot = _stack(v, "d"), _stack(v, "r")
+    starts = first_rows(series)
+    for prefix, what in (("d", "displacement"), ("r", "rotation")):
+        if prefix + "x" not in v:
+            continue
+        bad = np.argwhere(np.column_stack([v[prefix + c][starts] for c in "xyz"]) != 0)
+        if bad.size:
+            i, base = starts[bad[0, 0]], prefix + "xyz"[bad[0, 1]]
+            raise table.error(i, base, f"the first row of series '{series[i]}' (step "
+                              f"{steps[i]}) is its reference reading, so its {what} must be "
+                              f"0, got {table.text(i, base)}")
+    if "sigma" in v:
+        check_positive(table, v["sigma"], "sigma", "sigma")
+    q = np.column_stack([v[f"q{j}"] for j in range(1, 7)])
+    check_limits(table, q, limits)
+    return StaticData(series=series, steps=steps, q=q, force=_stack(v, "f"), disp=disp,
+                      moment=_stack(v, "m"), rot=rot, sigma=v.get("sigma"))
+
+
+def read(path: PathType, limits: ArrayLike | None = None) -> StaticData:
+    """Read a static measurement file (see the module docstring for the rules)."""
+    return from_table(read_table(path, SCHEMA.vocabulary), limits)
+
+
+def values(data: StaticData) -> dict[str, np.ndarray | None]:
+    """Column base -> (n,) values in SI (None: optional column absent)."""
+    out = {"series": data.series, "step": data.steps, "sigma": data.sigma}
+    out.update({f"q{j + 1}": data.q[:, j] for j in range(6)})
+    for prefix, arr in (("f", data.force), ("d", data.disp), ("m", data.moment),
+                        ("r", data.rot)):
+        out.update({prefix + c: None if arr is None else arr[:, k]
+                    for k, c in enumerate("xyz")})
+    return out
+
+
+def write(path: PathType, data: StaticData, comments=()) -> Path:
+    """Write ``data`` in canonical units (mm, N, deg, N m, mrad), atomically."""
+    return write_table(path, SCHEMA, values(data), comments)
+
+
+def to_dataframe(data: StaticData):
+    """``pandas.DataFrame`` with the columns and units :func:`write` writes."""
+    return table_frame(SCHEMA, values(data))

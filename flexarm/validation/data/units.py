@@ -1,0 +1,263 @@
+"""Unit suffixes of measurement columns and exact conversion to and from SI.
+
+A physical column is named ``<base>_<unit>`` (``dx_mm``, ``fy_kN``, ``q2_deg``).  The
+base fixes the quantity (length, force, ...); the suffix picks one of the accepted
+units of that quantity.  Suffixes are matched case-insensitively, and ``µm``/``μm``
+are accepted for ``um``.
+
+Conversions are exact to one rounding: a decimal text ``"1.5"`` in mm becomes the
+double nearest to 1.5e-3 (the same double as ``float("0.0015")``), and
+:func:`format_values` writes the shortest text that reads back to the same double.
+So reading a written file gives bit-identical arrays.  The degree factor is the
+double ``math.pi / 180``, so ``"170"`` deg reads as exactly ``np.deg2rad(170)``.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from decimal import Context, Decimal
+from fractions import Fraction
+
+import numpy as np
+
+from ...fe.typing import ArrayLike, FloatArray
+
+__all__ = [
+    "QUANTITIES",
+    "accepted_units",
+    "unit_factor",
+    "si_factor",
+    "split_column",
+    "parse_values",
+    "parse_decimal_column",
+    "format_values",
+    "parse_quantity",
+]
+
+#: quantity -> {unit symbol as written canonically: size of one unit in SI, exact}
+QUANTITIES: dict[str, dict[str, Fraction]] = {
+    "length": {"m": Fraction(1), "mm": Fraction(1, 10**3), "um": Fraction(1, 10**6),
+               "cm": Fraction(1, 10**2), "in": Fraction(254, 10**4)},
+    "force": {"N": Fraction(1), "kN": Fraction(10**3)},
+    "angle": {"deg": Fraction(math.pi / 180), "rad": Fraction(1),
+              "mrad": Fraction(1, 10**3), "urad": Fraction(1, 10**6)},
+    "moment": {"Nm": Fraction(1), "kNm": Fraction(10**3)},
+    "frequency": {"Hz": Fraction(1), "kHz": Fraction(10**3)},
+    "receptance": {"m_per_N": Fraction(1), "mm_per_N": Fraction(1, 10**3),
+                   "um_per_N": Fraction(1, 10**6)},
+}
+
+_MICRO = ("\u00b5", "\u03bc")  # micro sign and Greek mu, both read as "u"
+_LOOKUP = {q: {sym.lower(): sym for sym in units} for q, units in QUANTITIES.items()}
+_DIGITS = 17  # significant digits that always identify a double
+_QUANTITY = re.compile(r"([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)(?:\s*([^\W\d_]\S*))?")
+
+
+def accepted_units(quantity: str) -> list[str]:
+    """Unit symbols accepted for ``quantity``, canonical spelling.
+
+    Examples
+    --------
+    >>> accepted_units("force")
+    ['N', 'kN']
+    """
+    return list(QUANTITIES[quantity])
+
+
+def unit_factor(quantity: str, unit: str) -> tuple[str, Fraction] | None:
+    """Canonical symbol and exact SI size of ``unit``, or ``None`` if not accepted.
+
+    Parameters
+    ----------
+    quantity : str
+        A key of :data:`QUANTITIES`.
+    unit : str
+        The suffix as written (case-insensitive; ``µm`` is ``um``).
+
+    Examples
+    --------
+    >>> unit_factor("length", "UM")
+    ('um', Fraction(1, 1000000))
+    >>> unit_factor("length", "ft") is None
+    True
+    """
+    key = unit.lower()
+    for mu in _MICRO:
+        key = key.replace(mu, "u")
+    symbol = _LOOKUP[quantity].get(key)
+    return None if symbol is None else (symbol, QUANTITIES[quantity][symbol])
+
+
+def si_factor(quantity: str, unit: str) -> float:
+    """Size of one ``unit`` in SI, as a float (for display and rough work).
+
+    Examples
+    --------
+    >>> si_factor("force", "kN")
+    1000.0
+    """
+    found = unit_factor(quantity, unit)
+    if found is None:
+        raise ValueError(f"unknown {quantity} unit '{unit}' "
+                         f"(accepted: {', '.join(accepted_units(quantity))})")
+    return float(found[1])
+
+
+def parse_quantity(text: str | float, quantity: str = "length", what: str | None = None
+                   ) -> float:
+    """SI value of a number with an optional unit suffix, ``"15um"`` -> ``1.5e-05``.
+
+    The decimal is scaled exactly and rounded once, like a measurement column, so
+    ``"15um"`` is the double nearest to 15e-6 (not ``15 * 1e-6``, one ulp below).
+
+    Parameters
+    ----------
+    text : str or float
+        ``"<number>[<unit>]"`` with a unit of ``quantity`` (case-insensitive, space
+        allowed: ``"0.1 mrad"``); a bare number, or a float, is already SI.
+    quantity : str
+        A key of :data:`QUANTITIES`.
+    what : str, optional
+        Name of the value in error messages (default: ``quantity``).
+
+    Examples
+    --------
+    >>> parse_quantity("15um"), parse_quantity("2kN", "force"), parse_quantity("0.02")
+    (1.5e-05, 2000.0, 0.02)
+    """
+    if not isinstance(text, str):
+        return float(text)
+    m = _QUANTITY.fullmatch(text.strip())
+    if m is None:
+        raise ValueError(f"{what or quantity} '{text}': expected a number with an optional "
+                         f"unit ({', '.join(accepted_units(quantity))})")
+    number, unit = m.groups()
+    if not unit:
+        return float(number)
+    found = unit_factor(quantity, unit)
+    if found is None:
+        raise ValueError(f"{what or quantity} '{text}': unknown {quantity} unit '{unit}' "
+                         f"(accepted: {', '.join(accepted_units(quantity))})")
+    return float(parse_values([number], found[1])[0])
+
+
+def split_column(name: str) -> tuple[str, str | None]:
+    """Split a column name at its first underscore into base and unit suffix.
+
+    Examples
+    --------
+    >>> split_column("re_m_per_N")
+    ('re', 'm_per_N')
+    >>> split_column("series")
+    ('series', None)
+    """
+    base, sep, unit = name.partition("_")
+    return base, (unit if sep else None)
+
+
+def parse_values(texts: list[str], factor: Fraction) -> FloatArray:
+    """(n,) float: decimal ``texts`` in a unit of size ``factor`` [SI], one rounding.
+
+    Parameters
+    ----------
+    texts : list of str, length n
+        Plain decimal numbers (already checked, e.g. ``"-1.5e-3"``).
+    factor : Fraction
+        Size of the unit in SI (from :func:`unit_factor`).
+
+    Examples
+    --------
+    >>> parse_values(["1.5", "-2"], Fraction(1, 1000)).tolist()
+    [0.0015, -0.002]
+    """
+    if factor == 1:
+        return np.array(texts, dtype=np.float64).reshape(len(texts))
+    return np.array([float(Fraction(t) * factor) for t in texts], dtype=np.float64)
+
+
+def format_values(values: ArrayLike, factor: Fraction) -> list[str]:
+    """Shortest decimal texts of SI ``values`` in a unit of size ``factor``.
+
+    ``parse_values(format_values(v, f), f)`` returns ``v`` bit for bit.
+
+    Parameters
+    ----------
+    values : (n,) float
+        Values in SI.
+    factor : Fraction
+        Size of the target unit in SI.
+
+    Examples
+    --------
+    >>> format_values([0.0015, 1e-3 / 3], Fraction(1, 1000))
+    ['1.5', '0.3333333333333333']
+    """
+    values = np.asarray(values, dtype=np.float64).ravel()
+    if factor == 1:
+        return [repr(float(v)) for v in values]
+    return [_shortest(float(v), factor) for v in values]
+
+
+def _shortest(value: float, factor: Fraction) -> str:
+    exact = Fraction(value) / factor
+    try:
+        nearest = float(exact)
+    except OverflowError:
+        nearest = math.inf
+    if math.isfinite(nearest):
+        # reprs of the nearest doubles are short; keep the shortest that reads back exactly
+        candidates = [nearest]
+        for direction in (math.inf, -math.inf):
+            y = nearest
+            for _ in range(2):
+                y = math.nextafter(y, direction)
+                candidates.append(y)
+        texts = [repr(y) for y in candidates if math.isfinite(y)]
+        good = [t for t in texts if float(Fraction(t) * factor) == value]
+        if good:
+            return min(good, key=len)
+    # The nearest 17-digit decimal lies inside the rounding interval of any double.
+    dec = Context(prec=_DIGITS).divide(Decimal(exact.numerator), Decimal(exact.denominator))
+    text = f"{dec:g}"
+    assert float(Fraction(text) * factor) == value, (value, text)
+    return text
+
+
+def parse_decimal_column(texts: list[str], factor: Fraction) -> np.ndarray | None:
+    """:func:`parse_values` of a column whose every cell is a
+    plain finite decimal, vectorised (bit for bit the same values); None when a cell is not
+    (then the cells are checked one by one for the message).
+
+    ``float`` reads the same ASCII decimals as the schema (no ``_``), plus nan and inf,
+    which the finiteness test rejects.  Scaling by a power of ten is exact when written
+    into the exponent (``"0.081e-3"``: one rounding); other units go through the exact
+    parser once per distinct text (joint angles repeat within a series).
+    """
+    joined = "\n".join(texts)
+    if not joined.isascii() or "_" in joined or "" in texts:
+        return None
+    try:
+        plain = np.array(texts, dtype=np.float64)
+    except ValueError:
+        return None
+    if not np.all(np.isfinite(plain)):
+        return None
+    if factor == 1:
+        return plain
+    shift = _decimal_shift(factor)
+    if shift is not None and "e" not in joined and "E" not in joined:
+        suffix = f"e{shift}"
+        shifted = (suffix + "\n").join(texts) + suffix
+        # + 0.0: the exact parser reads "-0" as 0 (a Fraction has no signed zero)
+        return np.array(shifted.split("\n"), dtype=np.float64) + 0.0
+    distinct, inverse = np.unique(np.array(texts, dtype=np.str_), return_inverse=True)
+    return parse_values(distinct.tolist(), factor)[inverse.ravel()]
+
+
+def _decimal_shift(factor: Fraction) -> int | None:
+    """``k`` if ``factor`` is ``10**k`` (mm: -3, kN: 3), else None."""
+    for k in range(-9, 10):
+        if factor == Fraction(10) ** k:
+            return k
+    return None

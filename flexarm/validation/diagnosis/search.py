@@ -1,0 +1,354 @@
+"""Diagnosis: fit the baseline, find what is missing, name the effect, refit, repeat.
+
+Loop (DESIGN §8): (1) fit the current model (baseline = per-joint torsion compliance
+scales, GLS with the shared-reference noise model); (2) say whether something is
+missing (chi^2_red against its band, leave-one-pose-out); (3) screen every candidate of
+:mod:`~flexarm.validation.static.candidates` (untestable / aliased / score-test gain and
+ΔBIC); (4) refit the best one's physical model with the baseline (shapes of two effects
+on one joint searched together, :mod:`~flexarm.validation.static.shape_search`); (5) accept it
+only if ΔBIC > ``tol.delta_bic_accept``, the held-out RMS falls, its amplitudes are
+plausible and their intervals exclude zero, it is no proxy of a candidate that explains
+more, its amplitude is trusted (enough of its signature unique, or no load-linear
+structure left) and its refit leaves no measurement fault (offsets, drift, frame); a
+misfit it leaves (chi^2_red above its band) shrinks its ΔBIC and widens its intervals as
+in an F test; a best candidate failing on trust, as a proxy or on a fault it leaves gives
+way to the next;
+(6) add it, search every shape parameter again, repeat; (7) judge the final model
+(:mod:`~flexarm.validation.static.misfit`): outliers are discounted and the search run again,
+and a misfit left unexplained is reported with the structure of the residual.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ...assembly.system import ArmModel
+from ..data.measurements import ModalData, StaticData
+from ..data.shape_data import Points, ShapeData
+from ..dynamic.modal import ModalProblem
+from ..dynamic.shape_fit import SHAPE_NOISE, ShapeProblem
+from ..static.candidates import Screen, library, load_proposal, screen, status_of
+from ..static.fit import FitResult, Problem, baseline_effects, chi2_band, fit_model, heldout_rms
+from ..static.misfit import Misfit, misfit_verdict
+from ..static.refit import physical_refit as _refit
+from ..static.refit import shape_marginal as _shape_marginal
+from ..static.residual_structure import residual_structure
+from ..static.shape_search import research_shapes, shaped
+from ..tolerances import tol
+from .explain import base_note, explain, links_note, mimic, signature_corr, span_corr, static_notes
+from .identifiability import identifiability, leave_one_pose_out
+from .results import (
+    CandidateReport,
+    Checks,
+    Diagnosis,
+    Identifiability,
+    Step,
+    Winner,
+)
+
+__all__ = ["CandidateReport", "Checks", "Winner", "Step", "Identifiability", "Diagnosis",
+           "Misfit", "diagnose"]
+
+#: Structures of the residual a joint or base effect cannot cause: a candidate whose refit
+#: leaves one of them is a proxy of a measurement fault, not accepted.
+MEASUREMENT_STRUCTURES = ("offsets", "drift", "frame")
+#: Load-linear structures a candidate with a small unique share may be borrowing from: it
+#: is trusted only if its refit leaves none of them.
+LINEAR_STRUCTURES = ("tool", "joint_angle", "frame")
+#: Candidates with several amplitudes of which one excluding zero is enough.
+ANY_AMPLITUDE = ("wrist", "tool", "frame", "balancer")
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True)
+class _Refit:
+    """The best candidate refitted: the winner and the model it would give."""
+
+    winner: Winner
+    fit: FitResult
+    free: list
+    scales: np.ndarray
+    proxies: tuple
+    explanation: str
+
+
+def arm_joints(problem: Problem) -> int:
+    """Number of baseline effects (one torsion scale per joint) in front of the others."""
+    return problem.arm.chain.n_joints
+
+
+def _rms(problem: Problem, effects) -> float:
+    r = (problem.y - problem.predict(effects))[~problem.is_ref]
+    return float(np.sqrt(np.mean(r**2))) if r.size else float("nan")
+
+
+def _plausible(kind: str, theta: np.ndarray) -> bool:
+    if kind == "links":
+        return bool(np.all(theta > 0) and np.all(theta < tol.max_link_compliance))
+    if kind in ("wrist", "tool", "balancer"):
+        return True
+    if kind == "frame":
+        return bool(np.all(np.abs(theta) < tol.max_frame_error))
+    if kind in ("backlash", "hysteresis"):
+        return bool(np.all(theta > 0) and np.all(theta < tol.max_backlash))
+    return bool(np.all(theta > 0))
+
+
+def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
+             noise_model: str = "shared", max_effects: int = 3,
+             heldout: bool = True, poses: dict | None = None,
+             modal: ModalData | None = None, flexible: ArmModel | None = None,
+             freq_noise: float = tol.freq_noise, exclude: tuple = (),
+             points: Points | None = None, shape_noise: float = SHAPE_NOISE,
+             builds=None) -> Diagnosis:
+    """Diagnose which effects the model ``arm`` misses in the static ``data``.
+
+    ``poses`` (name -> q [rad], e.g. ``robot.poses``) widen the search for load proposals.
+    ``modal`` (measured natural frequencies, relative noise ``freq_noise``) joins the
+    static data in every fit; ``flexible`` (the robot's flexible model) adds the
+    link-flexibility candidate (:mod:`~flexarm.assembly.linkflex`).  ``exclude`` names
+    candidates (``"frame"``, ``"tool"``, ``"balancer_j2"``) or kinds left out of the library.
+    When ``modal`` carries mode shapes (:class:`~.shape_data.ShapeData`) at ``points``,
+    its modes are paired with the model's by MAC and a shape residual (noise
+    ``shape_noise`` times each shape's largest entry) joins every fit
+    (:class:`~.shape_fit.ShapeProblem`; ``builds`` give flexible links their shapes).
+    Returns a :class:`Diagnosis`; ``accepted`` holds the accepted effects with fitted
+    parameters, ``final_effects`` the full fitted model (baseline scales included) and
+    ``misfit`` the verdict on it (:mod:`~flexarm.validation.static.misfit`).  Readings the final
+    model's residual shows as isolated outliers are discounted and the search runs again
+    (robust handling; they are named in the verdict).
+    """
+    log.info("diagnosis of %d readings%s", len(data.series),
+             "" if modal is None else f" and {len(modal.freq_hz)} frequencies")
+    if modal is None:
+        problem = Problem(arm, data, sigma, noise_model, flexible)
+    elif isinstance(modal, ShapeData) and points is not None:
+        problem = ShapeProblem(arm, data, sigma, noise_model, flexible, modal, freq_noise,
+                               points, shape_noise, builds)
+    else:
+        problem = ModalProblem(arm, data, sigma, noise_model, flexible, modal, freq_noise)
+    for _ in range(3):
+        dg, final_fit = _search(problem, max_effects, heldout, poses, exclude)
+        rs = residual_structure(problem, final_fit.effects, final_fit.sensitivity,
+                                final_fit.n_identified + final_fit.n_shape)
+        if not rs.outlier_rows:
+            break
+        problem.discount(list(rs.outlier_rows))
+        log.info("%d outlier(s) discounted, search again", len(rs.outlier_rows))
+    rows = np.flatnonzero(problem.discounted)
+    discounted = tuple((str(data.series[i]), int(data.steps[i])) for i in rows)
+    final = dg.final
+    verdict = misfit_verdict(final.label, final.chi2_red, final.band, rs, discounted)
+    log.info("diagnosis done: %d effects accepted%s", len(dg.accepted),
+             ", unexplained misfit" if verdict.unexplained else "")
+    notes = _notes(arm, problem, flexible, rs)
+    if isinstance(problem, ShapeProblem):
+        notes += (problem.shape_note(dg.final_effects),)
+    return replace(dg, misfit=verdict, notes=notes)
+
+
+def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()):
+    """The search loop on ``problem``: the diagnosis (without verdict) and the final fit."""
+    arm = problem.arm
+    effects, free = baseline_effects(arm)
+    n_base = len(effects)
+    scales = np.ones(len(free))
+    prior = {f: (1.0, tol.baseline_prior_sd) for f in free}
+    effects = list(getattr(problem, "start_effects", effects))
+    if problem.noise_model != "shared":  # the trap demonstration keeps the joint library:
+        # the measurement candidates read patterns only the GLS metric makes meaningful
+        exclude = tuple(exclude) + ("tool", "frame", "balancer")
+    cands = [c for c in library(problem) if c.name not in exclude and c.kind not in exclude]
+    steps, accepted, ident = [], [], None
+    label = "baseline"
+    n_shape = 0  # shape parameters (thresholds, radii) of the accepted effects: fixed, counted
+    for it in range(max_effects + 1):
+        fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
+        band = chi2_band(fr.dof)
+        cur_ho = heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan
+        if it == 0:
+            ident = replace(identifiability(problem, fr), leave_one_pose_out=leave_one_pose_out(
+                problem, effects, free, scales, prior))
+        version = Step(label, fr.effects, fr.chi2_red, band, fr.dof, _rms(problem, fr.effects),
+                       cur_ho)
+        step, refit = _round(problem, fr, version, cands, accepted, free, scales, prior, n_shape,
+                             heldout, poses)
+        steps.append(step)
+        if not step.accepted:
+            break
+        effects, free, scales = list(refit.fit.effects), refit.free, refit.scales
+        n_shape = refit.fit.n_shape
+        accepted.append(refit.fit.effects[-1])
+        label = label + " + " + refit.winner.label
+        if len(accepted) > 1:  # every shape again, with all accepted effects free
+            effects = list(research_shapes(problem, effects, free, scales, prior, n_shape,
+                                           shaped(effects, n_base)).effects)
+    if steps[-1].accepted:  # the loop ran out of iterations after an acceptance
+        fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
+        steps.append(_last_version(problem, label, fr, effects, free, scales, prior,
+                                   heldout))
+    final = tuple(steps[-1].effects)
+    return Diagnosis(tuple(steps), ident, final[n_base:], final,
+                     _notes(arm, problem, problem.flexible)), fr
+
+
+def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, prior,
+           n_shape: int, heldout: bool, poses):
+    """One round against the model version ``version`` (fitted as ``fr``): screen the
+    candidates not yet accepted, refit the best testable one, rank them all.
+
+    Returns ``version`` with the ranking and the winner, and the refit (None if no
+    candidate was testable)."""
+    done = {e.kind + (f"_j{e.joint + 1}" if e.joint is not None else "") for e in accepted}
+    screens = [screen(problem, fr, c) for c in cands if c.name not in done]
+    testable = sorted((s for s in screens if status_of(s) is None), key=lambda s: -s.dbic)
+    best, refit, untrusted = None, None, {}
+    # a best candidate that fails on trust, as a proxy or on a fault it leaves (another
+    # effect still missing can look like one) gives way to the next, so a true effect
+    # behind it is still found
+    for s in testable[:tol.max_refits]:
+        r = _refit_best(problem, fr, s, screens, free, scales, prior, n_shape,
+                        version.rms_heldout, heldout)
+        if best is None:
+            best, refit = s, r
+        failed = r.winner.checks.failed
+        if not {"trusted", "distinct", "clean"} & set(failed):
+            best, refit = s, r
+            break
+        untrusted[s.candidate.name] = (r, failed)
+    reports = [_report(problem, fr, s, screens, best, refit, poses) for s in screens]
+    reports = [replace(r, status="rejected", detail="failed: " + ", ".join(untrusted[r.name][1]))
+               if r.name in untrusted and (refit is None or r.name != refit.winner.name) else r
+               for r in reports]
+    order = {"accepted": 0, "rejected": 1, "aliased": 2, "untestable": 3}
+    reports.sort(key=lambda r: (order[r.status], -r.dbic))
+    if refit is None:
+        return replace(version, candidates=tuple(reports)), None
+    return replace(version, candidates=tuple(reports), winner=refit.winner,
+                   accepted=refit.winner.checks.passed, explanation=refit.explanation), refit
+
+
+def _refit_best(problem: Problem, fr, best: Screen, screens, free, scales, prior,
+                n_shape: int, cur_ho: float, heldout: bool) -> _Refit:
+    """Refit the best testable candidate with the current model and check it for
+    acceptance (module docstring, step 5)."""
+    c = best.candidate
+    fr2, free2, scales2, keep, grid_sd = _refit(problem, fr, free, scales, prior, best, n_shape)
+    same = [i for i in shaped(fr2.effects, arm_joints(problem), c.joint)
+            if i < len(fr2.effects) - 1] if c.joint is not None else []
+    if same:  # two effects on one joint: their shapes are searched together
+        fr2 = research_shapes(problem, fr2.effects, free2, scales2, prior, fr2.n_shape,
+                              same + shaped(fr2.effects, len(fr2.effects) - 1))
+        if c.grid_name is not None:
+            fr2, grid_sd = _shape_marginal(problem, fr2, scales2, prior, c.grid_name)
+    theta = fr2.theta[len(free):]
+    band2 = chi2_band(fr2.dof)
+    # residual variance above the stated noise (a misfit the candidate leaves) widens the
+    # intervals and shrinks its chi^2 gain, as in an F test
+    # (with the GLS noise model: the "independent" one exists to show the trap unguarded)
+    guarded = problem.noise_model == "shared"
+    infl = max(1.0, fr2.chi2_red) if fr2.chi2_red > band2[1] and guarded else 1.0
+    se = fr2.stderr[len(free):] * np.sqrt(infl)
+    dbic = (fr.chi2 - fr2.chi2) / infl - c.n_params * np.log(fr.n_obs)
+    new_ho = heldout_rms(problem, fr2.effects, free2, scales2, prior) if heldout else 0.0
+    excl = np.abs(theta) > tol.interval_z * se
+    rs2 = residual_structure(problem, fr2.effects, fr2.sensitivity,
+                             fr2.n_identified + fr2.n_shape)
+    clean = not guarded or not any(t.found for t in rs2.tests
+                                   if t.name in MEASUREMENT_STRUCTURES and t.name != c.kind)
+    trusted = bool(not guarded or best.unique >= tol.trusted_share
+                   or not any(t.found for t in rs2.tests if t.name in LINEAR_STRUCTURES))
+    # A proxy: an aliased candidate whose unique signature correlates with the best one's
+    # and which would explain more of the residual.
+    proxies = [s for s in screens if status_of(s) == "aliased" and s.dchi2 > best.dchi2
+               and signature_corr(s.columns, best.columns) > tol.proxy_correlation]
+    # with the GLS model, also a candidate with a small unique share that explains more
+    # (a flexible effect, e.g. a tool compliance, standing in for a base tilt)
+    proxies += [s for s in screens if problem.noise_model == "shared" and s is not best
+                and status_of(s) is None and s.unique < tol.trusted_share
+                and s.dchi2 > best.dchi2 and s.candidate.n_params < c.n_params
+                and span_corr(s.columns, best.columns) > tol.proxy_correlation]
+    checks = Checks(dbic=bool(dbic > tol.delta_bic_accept),
+                    heldout=bool(new_ho < tol.heldout_gain * cur_ho) if heldout else True,
+                    plausible=_plausible(c.kind, theta),
+                    interval=bool(excl.any() if c.kind in ANY_AMPLITUDE else excl.all()),
+                    distinct=not proxies, trusted=trusted, clean=clean)
+    winner = Winner(
+        name=c.name, label=c.label, dbic=float(dbic),
+        params={a: (float(t), float(s)) for a, t, s in zip(keep, theta, se, strict=True)},
+        grid_name=c.grid_name,
+        grid_value=None if c.grid_name is None else fr2.effects[-1].get(c.grid_name),
+        grid_sd=grid_sd, checks=checks, chi2_red_after=fr2.chi2_red,
+        rms_heldout_after=new_ho, rms_fit_after=_rms(problem, fr2.effects))
+    return _Refit(winner, fr2, free2, scales2, tuple(proxies),
+                  explain(problem, c, fr2.effects[-1], theta, se))
+
+
+def _report(problem: Problem, fr, s: Screen, screens, best: Screen | None,
+            refit: _Refit | None, poses) -> CandidateReport:
+    """The status of the screened candidate ``s`` in this round and why."""
+    c = s.candidate
+    st, detail = _status(problem, fr, s, best, refit, poses)
+    if c.kind == "base":
+        detail = (detail + "; " if detail else "") + base_note(screens)
+    if c.kind == "links" and st in ("rejected", "untestable"):
+        detail = (detail + "; " if detail else "") + links_note(problem, fr, s, st)
+    return CandidateReport(c.name, c.label, st, s.dbic, s.unique, s.norm, detail)
+
+
+def _status(problem: Problem, fr, s: Screen, best: Screen | None, refit: _Refit | None,
+            poses) -> tuple[str, str]:
+    """Status and detail of ``s`` before the notes on the base and link candidates."""
+    st = status_of(s)
+    c = s.candidate
+    winner = None if refit is None else refit.winner
+    if st == "untestable":
+        return st, _untestable_detail(problem, c, poses)
+    if st == "aliased":
+        return st, (links_note(problem, fr, s, "aliased") if c.kind == "links"
+                    else mimic(problem, fr, s))
+    if winner is not None and c.name == winner.name and refit.proxies:
+        p = max(refit.proxies, key=lambda x: x.dchi2)
+        return "aliased", (f"with {p.candidate.label} (a proxy: their unique signatures "
+                           f"correlate {signature_corr(p.columns, s.columns):.2f} and "
+                           f"{p.candidate.label} explains more, dchi2 {p.dchi2:.0f} vs "
+                           f"{s.dchi2:.0f})")
+    if winner is not None and c.name == winner.name:
+        ok = winner.checks.passed
+        return ("accepted" if ok else "rejected",
+                "" if ok else "failed: " + ", ".join(winner.checks.failed))
+    if winner is not None and signature_corr(s.columns, best.columns) > tol.alias_correlation:
+        return "aliased", f"with {winner.label} (same pattern on this data)"
+    return "rejected", ""
+
+
+def _untestable_detail(problem: Problem, c, poses) -> str:
+    """Why candidate ``c`` cannot be tested on these data, and what data would test it."""
+    if c.joint is not None and not np.any(np.abs(problem.J[:, :, c.joint]) > 1e-9):
+        return (f"joint {c.joint + 1} turns the TCP about its own axis: invisible in "
+                f"TCP translations; measure TCP rotations (rx, ry, rz)")
+    if c.kind in ("backlash", "hysteresis"):
+        return "add these loads: " + load_proposal(problem, c.joint, c.kind, extra_poses=poses)
+    return "the data barely load it: add poses/loads that do"
+
+
+def _last_version(problem: Problem, label: str, fr, effects, free, scales, prior,
+                  heldout: bool) -> Step:
+    """The model ``fr`` after the last acceptance when the rounds ran out (not screened)."""
+    return Step(label, fr.effects, fr.chi2_red, chi2_band(fr.dof), fr.dof,
+                _rms(problem, fr.effects),
+                heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan)
+
+
+def _notes(arm: ArmModel, problem: Problem, flexible: ArmModel | None,
+           structure=None) -> tuple[str, ...]:
+    """Effects these data cannot test, and measured modes no model mode matched."""
+    return (static_notes(arm, flexible is not None, problem, structure)
+            + tuple("modal data: " + u for u in getattr(problem, "unmatched", ())))
+
+
+#END

@@ -1,0 +1,369 @@
+"""Generalised least squares on static series with a shared reference reading.
+
+Noise model (DESIGN §8).  A reading ``k`` of a series measures
+``d_k = u_k - u_ref + e_k - e_ref`` with independent tracker noise ``e ~ N(0, sigma^2)``
+per coordinate, so the rows of one series share ``-e_ref``: their covariance is
+``sigma^2 (I + 1 1^T)``.  GLS with that covariance equals ordinary weighted least
+squares with a free offset per series and coordinate, where the reference row enters as
+an observation ``d_ref = 0``.  :meth:`Problem.whiten` implements this: it subtracts
+the (1/sigma^2-weighted) series mean, reference row included, and divides by sigma.
+Each series of ``m`` rows then carries ``3 (m - 1)`` degrees of freedom.  The
+``"independent"`` model (rows treated as independent, no offset) exists only to show
+why it invents effects (the shared-reference trap).
+
+Degrees of freedom and the chi^2_red band.  With the stated noise and a model that
+contains the truth, the GLS chi-square of a fit is chi^2(nu) distributed with
+
+    nu = n_obs - n_fit - n_shape,
+
+``n_obs`` = 3 per non-reference reading (= all 3 m coordinates of a series minus its 3
+reference offsets, the GLS-equivalent count; the ``independent`` model has no offsets and
+drops the reference rows, the same number), plus any modal frequencies;
+``n_fit`` = the effective number of fitted parameters, ``tr(2H - H^2)`` of the hat matrix
+``H`` of the whitened data (= the number of fitted compliances and amplitudes the data
+determine; a direction that only the weak prior pins down counts 0; with this trace the
+expected chi^2 of pure noise after a linear fit is exactly ``nu``, prior included);
+``n_shape`` = shape parameters chosen by a search outside the Gauss-Newton step (a
+hardening threshold, a hysteresis torque radius: one each).  A refit that adds an effect
+therefore removes its amplitudes (a backlash width, a lost motion, a compliance, up to
+three wrist couplings) through ``n_fit`` and its shape parameter through ``n_shape``.
+:func:`chi2_band` is the exact central interval of chi^2(nu)/nu.
+
+Model parameters are the named parameters of :class:`~flexarm.robot.effects.Effect`
+objects; the fit is Gauss-Newton with finite-difference sensitivities (exact in one step
+for rigid links, where every compliance enters linearly) and a weak Gaussian prior on
+the baseline compliance scale factors so that directions the data cannot see stay at
+their nominal values.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...assembly.analyses import tcp_compliance
+from ...assembly.effects import ADDED, added_deflection, apply_effects, measured
+from ...assembly.linkflex import links_arm, split_links
+from ...assembly.statics import joint_moments, series_starts
+from ...assembly.system import ArmModel
+from ...robot.effects import Effect
+from ...robot.kinematics import jacobian
+from ..data.measurements import StaticData
+from ..tolerances import tol
+
+__all__ = ["Problem", "FitResult", "fit_model", "baseline_effects", "chi2_band"]
+
+Param = tuple[int, str]  # (effect index, parameter name)
+
+
+class Problem:
+    """One static data set and the arm model it is compared with (caches the kinematics).
+
+    Parameters
+    ----------
+    arm : ArmModel
+    data : StaticData
+    sigma : float
+        Tracker standard uncertainty [m] used when the file has no ``sigma`` column.
+    noise_model : {"shared", "independent"}
+    flexible : ArmModel, optional
+        The flexible model of the same robot, for the ``links`` effect
+        (:mod:`~flexarm.assembly.linkflex`).
+    discount : (n,) bool, optional
+        Readings left out of the fit (outliers): their uncertainty is multiplied by
+        ``tol.discount_factor`` and they no longer count as observations.
+    """
+
+    def __init__(self, arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
+                 noise_model: str = "shared", flexible: ArmModel | None = None,
+                 discount: np.ndarray | None = None):
+        if noise_model not in ("shared", "independent"):
+            raise ValueError(f"noise_model must be 'shared' or 'independent', got {noise_model}")
+        self.arm, self.data, self.noise_model = arm, data, noise_model
+        self.flexible = flexible
+        n = len(data.series)
+        self.ref = series_starts(data.series)
+        self.is_ref = self.ref == np.arange(n)
+        self.sigma = np.full(n, sigma) if data.sigma is None else np.asarray(data.sigma, float)
+        self.discounted = np.zeros(n, bool)
+        if discount is not None:
+            self.discount(discount)
+        self.uq, inv = np.unique(data.q, axis=0, return_inverse=True)
+        self.pose_index = inv.ravel()
+        self.dw = np.zeros((n, 6))
+        self.dw[:, :3] = data.force
+        if data.moment is not None:
+            self.dw[:, 3:] = data.moment
+        self.dw -= self.dw[self.ref]
+        self.tau = joint_moments(arm, data.q, data.force, data.moment)[:, :, 0]
+        self.dtau = self.tau - self.tau[self.ref]
+        self.J = jacobian(arm.chain, data.q)[:, :3, :]
+        self.groups = [np.flatnonzero(self.ref == s) for s in np.unique(self.ref)]
+        self.series_id = np.searchsorted(np.unique(self.ref), self.ref)
+        self.y = np.asarray(data.disp, float)
+
+    def discount(self, rows) -> None:
+        """Leave the readings ``rows`` (bool mask or indices) out of every fit from now on
+        (robust handling of outliers): their sigma grows by ``tol.discount_factor``."""
+        mask = np.zeros(len(self.sigma), bool)
+        mask[np.asarray(rows)] = True
+        new = mask & ~self.discounted
+        self.sigma = np.where(new, self.sigma * tol.discount_factor, self.sigma)
+        self.discounted = self.discounted | mask
+
+    @property
+    def n_obs_static(self) -> int:
+        """Independent observations: 3 per non-reference reading, less 3 per discounted one."""
+        return 3 * int((~self.is_ref).sum() - self.discounted.sum())
+
+    @property
+    def n_obs(self) -> int:
+        """Independent observations (:attr:`n_obs_static`; subclasses add their own)."""
+        return self.n_obs_static
+
+    # ----- model predictions
+    def law_signature(self, joint: int, shape) -> np.ndarray:
+        """(n, 3) TCP motion [m] of a unit-amplitude law ``shape(tau history)`` at ``joint``."""
+        extra = np.zeros(len(self.ref))
+        for g in self.groups:
+            extra[g] = shape(self.tau[g, joint])
+        extra = extra - extra[self.ref]
+        return self.J[:, :, joint] * extra[:, None]
+
+    def model(self, effects):
+        """The arm with ``effects`` (links first) and its nonlinear laws per joint."""
+        c, rest = split_links(effects)
+        return apply_effects(links_arm(self.arm, self.flexible, c), rest)
+
+    def predict(self, effects) -> np.ndarray:
+        """(n, 3) relative TCP deflections [m] of the arm with ``effects``."""
+        arm, laws = self.model(effects)
+        C = tcp_compliance(arm, self.uq)[self.pose_index, :3, :]
+        u = np.einsum("nij,nj->ni", C, self.dw)
+        for j, js in laws.items():
+            for law in js:
+                u += self.law_signature(j, law.deflection)
+        if any(e.kind in ADDED for e in effects):
+            u = u + added_deflection(arm, effects, self.data.q, self.dw[:, :3], self.dtau)
+        return measured(effects, u)
+
+    # ----- noise model
+    def whiten(self, A: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
+        """Whitened residual-like array: (n, 3[, p]) -> (m[, p]), GLS metric of the noise model.
+
+        ``rows`` (bool (n,)) keeps whole series only.
+        """
+        A = np.asarray(A, dtype=float)
+        w = 1.0 / self.sigma**2
+        wb = w.reshape((-1,) + (1,) * (A.ndim - 1))
+        if self.noise_model == "shared":
+            num = np.zeros((len(self.groups),) + A.shape[1:])
+            np.add.at(num, self.series_id, wb * A)
+            den = np.bincount(self.series_id, weights=w)
+            mean = num / den.reshape((-1,) + (1,) * (A.ndim - 1))
+            Z = (A - mean[self.series_id]) / self.sigma.reshape(wb.shape)
+            keep = np.ones(len(A), bool)
+        else:
+            Z = A / self.sigma.reshape(wb.shape)
+            keep = ~self.is_ref
+        if rows is not None:
+            keep = keep & rows
+        Z = Z[keep]
+        return Z.reshape((-1,) + A.shape[2:])
+
+    def wpredict(self, effects, rows: np.ndarray | None = None) -> np.ndarray:
+        """(m,) whitened predictions of every observation (``whiten(predict)``)."""
+        return self.whiten(self.predict(effects), rows)
+
+    def wy(self, rows: np.ndarray | None = None) -> np.ndarray:
+        """(m,) whitened measurements, the counterpart of :meth:`wpredict`."""
+        return self.whiten(self.y, rows)
+
+    def n_obs_rows(self, rows: np.ndarray | None = None) -> int:
+        keep = np.ones(len(self.is_ref), bool) if rows is None else rows
+        return 3 * int((~self.is_ref & keep).sum() - (self.discounted & keep).sum())
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """A fitted model: effects with fitted values, covariance and goodness of fit.
+
+    ``chi2`` is the unscaled GLS chi-square with the stated noise; ``chi2_red`` divides by
+    ``dof = n_obs - n_identified - n_shape`` (module docstring): ``n_identified`` is the
+    effective number of fitted parameters ``tr(2H - H^2)``, ``n_shape`` the number of shape
+    parameters fixed by a search outside this fit (hardening threshold, hysteresis radius).
+    """
+
+    effects: tuple
+    free: tuple
+    theta: np.ndarray
+    cov: np.ndarray
+    chi2: float
+    n_obs: int
+    n_identified: float
+    residual: np.ndarray
+    sensitivity: np.ndarray
+    n_shape: int = 0
+
+    @property
+    def dof(self) -> float:
+        return max(self.n_obs - self.n_identified - self.n_shape, 1.0)
+
+    @property
+    def chi2_red(self) -> float:
+        return self.chi2 / self.dof
+
+    @property
+    def stderr(self) -> np.ndarray:
+        return np.sqrt(np.clip(np.diag(self.cov), 0, None))
+
+    def bic(self, n_extra: int = 0) -> float:
+        """chi^2 + k ln(n_obs) with ``k`` free parameters, the ``n_shape`` shape parameters
+        and ``n_extra`` more."""
+        return self.chi2 + (len(self.free) + self.n_shape + n_extra) * np.log(self.n_obs)
+
+
+def baseline_effects(arm: ArmModel) -> tuple[list[Effect], list[Param]]:
+    """Torsion compliance scale per joint (nominal 1): the linear baseline."""
+    eff = [Effect("stiffness", j, (("scale", 1.0),)) for j in range(arm.chain.n_joints)]
+    return eff, [(j, "scale") for j in range(len(eff))]
+
+
+def _set(effects, free, theta):
+    out = list(effects)
+    for (i, name), v in zip(free, theta, strict=True):
+        out[i] = out[i].with_params(**{name: float(v)})
+    return out
+
+
+def fit_model(problem: Problem, effects, free, scales, prior=None, rows=None,
+              iterations: int = 3, n_shape: int = 0) -> FitResult:
+    """Gauss-Newton GLS fit of the ``free`` parameters of ``effects``.
+
+    Parameters
+    ----------
+    problem : Problem
+    effects : sequence of Effect
+    free : sequence of (effect index, parameter name)
+    scales : (p,) float
+        Typical size of each free parameter (finite-difference step and conditioning).
+    prior : mapping (effect index, name) -> (mean, sd), optional
+        Gaussian prior (used for the baseline scale factors).
+    rows : (n,) bool, optional
+        Fit on these series only (held-out validation).
+    n_shape : int
+        Shape parameters of ``effects`` that were chosen by a search on the same data
+        (they stay fixed here but use up degrees of freedom).
+    """
+    effects, free = list(effects), list(free)
+    scales = np.asarray(scales, dtype=float)
+    theta = np.array([effects[i].get(name) for i, name in free])
+    prior = prior or {}
+    mu = np.array([prior.get(f, (0.0, np.inf))[0] for f in free])
+    sd = np.array([prior.get(f, (0.0, np.inf))[1] for f in free])
+    P = np.where(np.isfinite(sd), 1 / np.where(np.isfinite(sd), sd, 1) ** 2, 0.0)
+    for _ in range(iterations):
+        f0 = problem.wpredict(_set(effects, free, theta), rows)
+        cols = []
+        for k in range(len(free)):
+            h = tol.fd_step * max(scales[k], abs(theta[k]))
+            t = theta.copy()
+            t[k] += h
+            cols.append((problem.wpredict(_set(effects, free, t), rows) - f0) / h)
+        X = np.stack(cols, axis=-1) if cols else np.zeros(f0.shape + (0,))
+        r = problem.wy(rows) - f0
+        # normal equations in scaled variables, with the prior
+        D = scales
+        A = (X * D).T @ (X * D) + np.diag(P * D**2)
+        b = (X * D).T @ r - P * D * (theta - mu)
+        step = D * np.linalg.lstsq(A, b, rcond=1e-12)[0]
+        theta = theta + step
+        if np.all(np.abs(step) <= 1e-6 * np.maximum(np.abs(theta), scales)):
+            break
+    final = _set(effects, free, theta)
+    res = problem.wy(rows) - problem.wpredict(final, rows)
+    A = (X * D).T @ (X * D) + np.diag(P * D**2)
+    Ainv = np.linalg.pinv(A, rcond=1e-12)
+    cov = D[:, None] * Ainv * D[None, :]
+    G = Ainv @ ((X * D).T @ (X * D))  # tr(G) = tr(H), tr(G G) = tr(H^2)
+    n_fit = float(2 * np.trace(G) - np.trace(G @ G))
+    return FitResult(tuple(final), tuple(free), theta, cov, float(res @ res),
+                     problem.n_obs_rows(rows), n_fit, res, X, int(n_shape))
+
+
+def chi2_band(dof: float, coverage: float = tol.chi2_band_coverage) -> tuple[float, float]:
+    """Exact central ``coverage`` interval of chi^2_red = chi^2(dof) / dof.
+
+    The quantiles are ``scipy.stats.chi2.ppf`` at ``(1 - coverage) / 2`` and
+    ``(1 + coverage) / 2`` (not the normal approximation ``1 +- z sqrt(2 / dof)``, which
+    is too low at both ends: chi^2 is skewed).  ``dof`` may be fractional (effective
+    parameter counts, :class:`FitResult`).  The default coverage ``0.99`` (0.5 % and
+    99.5 % quantiles) is chosen because the band is checked on every model version of every
+    data set, and a correct model falls outside a 95 % band once in twenty: at 99 % a false
+    "something is missing" costs 1 %, while a missing effect worth adding moves chi^2_red
+    by far more than the band's half-width (0.18 at dof 430).
+
+    Examples
+    --------
+    >>> [round(v, 3) for v in chi2_band(427.0)]
+    [0.833, 1.185]
+    """
+    from scipy.stats import chi2
+
+    if not dof > 0:
+        raise ValueError(f"chi2_band needs dof > 0, got {dof}")
+    a = (1 - coverage) / 2
+    return float(chi2.ppf(a, dof) / dof), float(chi2.ppf(1 - a, dof) / dof)
+
+
+def heldout_rms(problem: Problem, effects, free, scales, prior, folds: int = tol.cv_folds,
+                by: str | None = None) -> float:
+    """RMS [m] of the raw relative residual on held-out readings or series.
+
+    ``by`` (default ``tol.heldout_by``): ``"readings"`` holds out every ``folds``-th
+    reading of every series (stratified: each fold holds readings of every series, so a
+    torque reversal seen in one series only is still both fitted and tested; a held-out
+    reading leaves the fit as a discounted one does); ``"series"`` holds out whole series
+    (round-robin over a fixed permutation).  Discounted readings are never tested.
+    """
+    import copy
+
+    by = by or tol.heldout_by
+    if by not in ("readings", "series"):
+        raise ValueError(f"heldout by must be 'readings' or 'series', got {by}")
+    sid = problem.series_id
+    n_s = sid.max() + 1
+    if n_s < folds:
+        return float("nan")
+    perm = np.random.default_rng(0).permutation(n_s)  # fixed, mixes directions
+    if by == "series":
+        fold_of = (perm % folds)[sid]
+    else:
+        pos = np.arange(len(sid)) - problem.ref  # position within the series
+        fold_of = (pos + perm[sid]) % folds
+    usable = ~problem.is_ref & ~problem.discounted
+    sq, cnt = 0.0, 0
+    for k in range(folds):
+        test = fold_of == k
+        if by == "series":
+            fr = fit_model(problem, effects, free, scales, prior, rows=~test, iterations=2)
+        else:
+            train = copy.copy(problem)
+            train.discount(np.flatnonzero(test & ~problem.is_ref))
+            fr = fit_model(train, effects, free, scales, prior, iterations=2)
+        r = (problem.y - problem.predict(fr.effects))[test & usable]
+        sq += float((r**2).sum())
+        cnt += r.size
+    return float(np.sqrt(sq / max(cnt, 1)))
+
+
+def with_effect(effects, free, scales, prior, effect: Effect, names, sizes):
+    """Append ``effect`` with free parameters ``names`` (typical ``sizes``)."""
+    effects = list(effects) + [effect]
+    i = len(effects) - 1
+    return (effects, list(free) + [(i, n) for n in names],
+            np.r_[scales, sizes], dict(prior))
+
+
+__all__ += ["heldout_rms", "with_effect"]
