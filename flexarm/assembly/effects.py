@@ -73,6 +73,7 @@ def _signed(cls, amplitude: float, *args):
 def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
     """New arm with the linear effects, and the nonlinear laws per joint index."""
     joints = list(arm.joints)
+    bodies = list(arm.bodies)
     foundation = None if arm.foundation is None else np.array(arm.foundation, float)
     Cw = wrist_compliance(arm)
     wrist_changed = arm.wrist_stiffness is not None
@@ -108,6 +109,16 @@ def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
             Kf = np.diag([tol.rigid_foundation] * 3 + [1 / c, 1 / c, tol.rigid_foundation])
             foundation = Kf if foundation is None else np.linalg.inv(
                 np.linalg.inv(foundation) + np.linalg.inv(Kf))
+        elif e.kind == "foundation":
+            c = np.array([e.get("cx", 0.0), e.get("cy", 0.0)])
+            if not np.any(c > 0):
+                continue
+            k = np.where(c > 0, 1.0 / np.where(c > 0, c, 1.0), tol.rigid_foundation)
+            Kf = np.diag([tol.rigid_foundation] * 3 + [k[0], k[1], tol.rigid_foundation])
+            foundation = Kf if foundation is None else np.linalg.inv(
+                np.linalg.inv(foundation) + np.linalg.inv(Kf))
+        elif e.kind == "mass":
+            bodies[j + 1] = with_added_mass(bodies[j + 1], e.get("mass"))
         elif e.kind == "wrist":
             for key, (a, b) in (("c45", (0, 1)), ("c46", (0, 2)), ("c56", (1, 2))):
                 v = e.get(key, 0.0)
@@ -116,13 +127,57 @@ def apply_effects(arm: ArmModel, effects) -> tuple[ArmModel, dict[int, list]]:
             wrist_changed = True
         # "links" changes the bodies: linkflex.links_arm, applied by the caller
     wrist = np.linalg.inv(Cw) if wrist_changed else None
-    new = replace(arm, joints=tuple(joints), foundation=foundation, wrist_stiffness=wrist)
+    new = replace(arm, joints=tuple(joints), bodies=tuple(bodies), foundation=foundation,
+                  wrist_stiffness=wrist)
     new.__dict__.pop("_layout", None)
     return new, laws
 
 
+def at_pose(arm: ArmModel, effects, q) -> ArmModel:
+    """``arm`` at joint angles ``q`` [rad] with the pose-dependent springs of ``effects``:
+    a gravity balancer adds ``kc cos q_j + ks sin q_j`` [N m/rad] to its joint's gear
+    stiffness (floored as in :func:`added_deflection`), which the arm's modes at that pose
+    feel as its static deflections do.  ``arm`` itself when there are none."""
+    bal = [e for e in effects if e.kind == "balancer"]
+    if not bal:
+        return arm
+    q = np.asarray(q, dtype=float)
+    joints = list(arm.joints)
+    for e in bal:
+        j = e.joint
+        k = joints[j].torsion
+        kb = e.get("kc") * np.cos(q[j]) + e.get("ks") * np.sin(q[j])
+        joints[j] = replace(joints[j], torsion=float(max(k + kb, tol.min_compliance_scale * k)))
+    new = replace(arm, joints=tuple(joints))
+    new.__dict__.pop("_layout", None)
+    return new
+
+
+def body_centre_of_mass(body) -> np.ndarray:
+    """Centre of mass [m] of ``body`` in its link frame, from its rigid-motion mass block at
+    the proximal node (``M_rt = m skew(c - x0)``)."""
+    M = np.asarray(body.M, float)[:6, :6]
+    m = M[0, 0]
+    S = M[3:6, 0:3] / m if m > 0 else np.zeros((3, 3))
+    r = 0.5 * np.array([S[2, 1] - S[1, 2], S[0, 2] - S[2, 0], S[1, 0] - S[0, 1]])
+    return np.asarray(body.node_positions, float)[0] + r
+
+
+def with_added_mass(body, mass: float):
+    """``body`` with a point ``mass`` [kg] at its centre of mass, moving with its proximal
+    node (the rigid motion of a flexible body)."""
+    if mass == 0 or body.M[0, 0] <= 0:
+        return body
+    x0 = np.asarray(body.node_positions, float)[0]
+    r = body_centre_of_mass(body) - x0
+    T = np.zeros((3, body.M.shape[0]))
+    T[:, :3] = np.eye(3)
+    T[:, 3:6] = -np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+    return replace(body, M=np.asarray(body.M, float) + mass * T.T @ T)
+
+
 #: Effects that add a TCP motion on top of the arm's compliance (not a change of the arm).
-ADDED = ("tool", "balancer")
+ADDED = ("tool", "balancer", "reflector")
 
 
 def added_deflection(arm: ArmModel, effects, q, dforce, dtau) -> np.ndarray:
@@ -134,7 +189,9 @@ def added_deflection(arm: ArmModel, effects, q, dforce, dtau) -> np.ndarray:
     A tool compliance ``C`` (3, 3) [m/N] in the tool frame moves the TCP by
     ``R C R^T dF`` (``R`` the tool frame's orientation); a balancer of stiffness
     ``kb(q_j) = kc cos q_j + ks sin q_j`` in parallel with the gear ``k`` turns joint
-    ``j`` by ``dtau (1 / (k + kb) - 1 / k)`` more, seen at the TCP through the Jacobian.
+    ``j`` by ``dtau (1 / (k + kb) - 1 / k)`` more, seen at the TCP through the Jacobian; a
+    reflector at offset ``o`` [m] from the TCP (tool frame) moves by ``w x R o`` more, ``w``
+    the TCP rotation the load change gives.
 
     Examples
     --------
@@ -160,6 +217,17 @@ def added_deflection(arm: ArmModel, effects, q, dforce, dtau) -> np.ndarray:
                 C[b, a] = C[a, b]
         R = tcp_frame(arm.chain, q)[:, :3, :3]
         u += np.einsum("nij,jk,nlk,nl->ni", R, C, R, dforce)
+    offsets = [e for e in effects if e.kind == "reflector"]
+    if offsets:
+        from .analyses import tcp_compliance
+
+        o = sum(np.array([e.get("ox", 0.0), e.get("oy", 0.0), e.get("oz", 0.0)])
+                for e in offsets)
+        T = tcp_frame(arm.chain, q)
+        uq, inv = np.unique(q, axis=0, return_inverse=True)
+        Crot = tcp_compliance(arm, uq)[inv.ravel(), 3:6, :3]
+        w = np.einsum("nij,nj->ni", Crot, dforce)  # TCP rotation the load change gives
+        u += np.cross(w, np.einsum("nij,j->ni", T[:, :3, :3], o))
     bal = [e for e in effects if e.kind == "balancer"]
     if bal:
         J = jacobian(arm.chain, q)[:, :3, :]
@@ -174,7 +242,9 @@ def added_deflection(arm: ArmModel, effects, q, dforce, dtau) -> np.ndarray:
 
 def measured(effects, u) -> np.ndarray:
     """(n, 3) TCP motions ``u`` [m] as a tracker whose frame is off by the ``frame``
-    effects sees them: ``(1 + scale) (u + r x u)`` for a small rotation vector ``r`` [rad].
+    effects sees them: ``(1 + scale) (u + r x u)`` for a small rotation vector ``r`` [rad];
+    a ``loadcell`` that reads ``1 + scale`` times the true force divides them by it (the
+    file's forces, which the model is given, are that much too large).
 
     Examples
     --------
@@ -184,10 +254,13 @@ def measured(effects, u) -> np.ndarray:
     """
     u = np.asarray(u, dtype=float)
     for e in effects:
+        if e.kind == "loadcell":  # the stated force is 1 + scale times the true one
+            u = u / (1.0 + e.get("scale"))
         if e.kind == "frame":
             r = np.array([e.get("rx", 0.0), e.get("ry", 0.0), e.get("rz", 0.0)])
             u = (1.0 + e.get("scale", 0.0)) * (u + np.cross(r, u))
     return u
 
 
-__all__ += ["ADDED", "added_deflection", "measured"]
+__all__ += ["ADDED", "added_deflection", "measured", "at_pose", "body_centre_of_mass",
+            "with_added_mass"]

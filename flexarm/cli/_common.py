@@ -132,6 +132,24 @@ def add_robot_args(p: argparse.ArgumentParser, models=("emodel",), pose: bool = 
                             "(default: P1, else the robot's first named pose, else zeros)")
 
 
+def add_measured_pose_args(p: argparse.ArgumentParser, tcp_node: bool = False) -> None:
+    """What a universal file from another tool does not say: ``--pose`` (the pose it was
+    measured at), ``--response`` (a general ordinate) and, for FRF comparisons,
+    ``--tcp-node``."""
+    p.add_argument("--pose", default=None,
+                   help="pose a universal file without flexarm's pose mark was measured at: "
+                        "a named pose of the robot file or q1,...,q6 [deg] (such a file is "
+                        "refused without it, never read at zero angles)")
+    p.add_argument("--response", default=None,
+                   choices=["displacement", "velocity", "acceleration"],
+                   help="what the FRFs' ordinate is when the file says 'general' or "
+                        "'unknown' and its unit label does not tell")
+    if tcp_node:
+        p.add_argument("--tcp-node", type=int, default=None,
+                       help="node whose driving-point FRFs are the TCP's (FRF files with "
+                            "several nodes)")
+
+
 def add_flexible_args(p: argparse.ArgumentParser) -> None:
     """``--mesh-size``, ``--modes``, ``--coupling`` of flexible links."""
     p.add_argument("--mesh-size", type=float, default=None,

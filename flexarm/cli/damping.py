@@ -30,6 +30,9 @@ def _add_max_hz(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-hz", type=float, default=None,
                    help="leave out modes above this frequency [Hz], e.g. the upper edge of "
                         "the FRF band 'ema' identified them in (default: use every mode)")
+    p.add_argument("--pose", default=None,
+                   help="pose a universal file without flexarm's pose mark was measured at: "
+                        "a named pose of the robot file or q1,...,q6 [deg]")
 
 
 @command("fit-damping", "joint damping ratios (or a Rayleigh law) fitted to measured modal "
@@ -44,12 +47,13 @@ def _run_fit_damping(args) -> int:
     if args.method == "modal":
         from ..validation.dynamic.pose_damping import store_modal_damping
 
-        stored = store_modal_damping(args.modal, args.robot, max_hz=args.max_hz)
+        stored = store_modal_damping(args.modal, args.robot, max_hz=args.max_hz,
+                                     pose=args.pose)
         out(stored.text())
         write_robot(output, stored.robot)
         wrote([output])
         return 0
-    res = fit_damping(args.modal, args.robot, args.method, max_hz=args.max_hz)
+    res = fit_damping(args.modal, args.robot, args.method, max_hz=args.max_hz, pose=args.pose)
     out(res.text())
     write_robot(output, res.robot)
     wrote([output, res.plot(output.with_name(output.stem + ".damping.png"))])
@@ -77,5 +81,5 @@ def _run_check_damping(args) -> int:
     if not 0 < args.alpha < 1:
         raise ValueError(f"--alpha {args.alpha}: must lie in (0, 1)")
     out(diagnose_damping(args.modal, args.robot, args.sigma_pct / 100, args.alpha,
-                         max_hz=args.max_hz).text())
+                         max_hz=args.max_hz, pose=args.pose).text())
     return 0

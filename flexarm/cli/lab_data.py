@@ -6,7 +6,7 @@ import argparse
 import shutil
 from pathlib import Path
 
-from ._common import command, out, wrote
+from ._common import add_measured_pose_args, command, out, wrote
 
 
 def _add_ema(p: argparse.ArgumentParser) -> None:
@@ -19,6 +19,9 @@ def _add_ema(p: argparse.ArgumentParser) -> None:
                    help="highest LSCF order (model orders 2 ... 2x this)")
     p.add_argument("--min-stable", type=float, default=0.25,
                    help="share of the orders at which a pole column must be stable [-]")
+    p.add_argument("--robot", default=None, help="robot TOML or URDF whose named poses "
+                   "--pose may use (default: the built-in demo arm)")
+    add_measured_pose_args(p)
 
 
 @command("ema", "modal parameters (frequency, damping, shapes) from measured FRFs: LSCF + "
@@ -33,7 +36,13 @@ def _run_ema(args) -> int:
             lo, hi = (float(v) for v in args.band.split(":"))
         except ValueError:
             raise ValueError(f"--band '{args.band}': expected LO:HI in Hz, e.g. 2:160") from None
-    res = run_ema(args.frf, lo, hi, args.max_order, args.min_stable)
+    uff = None
+    if args.pose is not None or args.response is not None:
+        from ..validation.data.formats import UffOptions
+        from ..validation.models import load
+
+        uff = UffOptions.at(load(args.robot), args.pose, args.response)
+    res = run_ema(args.frf, lo, hi, args.max_order, args.min_stable, uff)
     out(res.text())
     output = Path(args.output)
     wrote([registry.write(output, res.modal(), comments=(f"flexarm ema {args.frf}",))])

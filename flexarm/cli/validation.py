@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_robot_args, command, out, say, wrote
+from ._common import add_measured_pose_args, add_robot_args, command, out, say, wrote
 
 
 def _add_validation_common(p: argparse.ArgumentParser) -> None:
@@ -75,20 +75,23 @@ def _run_lab(args) -> int:
 
 # --- compare ---------------------------------------------------------------------------
 def _add_compare(p: argparse.ArgumentParser) -> None:
-    p.add_argument("data", help="measurement CSV: static, modal or frf (recognised by columns)")
+    p.add_argument("data", help="measurements: a CSV (static, modal or FRF, recognised by "
+                   "its columns) or a universal file (mode shapes or FRFs)")
     _add_validation_common(p)
+    add_measured_pose_args(p, tcp_node=True)
     p.add_argument("--noise", type=float, default=15.0, help="tracker noise [µm] (no sigma column)")
     p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%] (modal)")
     p.add_argument("-o", "--output", default=None, help="report folder (CSV, PNG)")
 
 
-@command("compare", "model predictions vs static measurements: errors, chi2_red, plots",
-         _add_compare)
+@command("compare", "model predictions vs measurements (static series, modal data, FRFs): "
+         "errors, chi2_red, MAC, plots", _add_compare)
 def _run_compare(args) -> int:
     from ..validation.workflow import compare
 
     cmp = compare(args.data, args.robot, _options(args), noise_um=args.noise,
-                  freq_noise_pct=args.freq_noise, progress=say)
+                  freq_noise_pct=args.freq_noise, progress=say, pose=args.pose,
+                  response=args.response, tcp_node=args.tcp_node)
     out(cmp.text())
     if args.output:
         wrote(cmp.write(args.output))
@@ -109,12 +112,14 @@ def _add_diagnose(p: argparse.ArgumentParser) -> None:
     p.add_argument("--noise-model", default="shared", choices=["shared", "independent"],
                    help="shared reference reading (GLS, default) or independent rows (only "
                    "to show the shared-reference trap)")
-    p.add_argument("--modal", default=None, help="measured natural frequencies CSV (joins the "
-                   "fits; implies --flexible)")
+    p.add_argument("--modal", default=None, help="measured natural frequencies (CSV or "
+                   "universal file; they join the fits, paired with model modes in every "
+                   "fit; add --flexible for the link-flexibility candidate)")
     p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
     p.add_argument("--shape-noise", type=float, default=2.0, help="scatter of a measured "
                    "shape entry [%% of the shape's largest entry] (--modal with shapes: "
                    "modes paired by MAC, shapes join the fits)")
+    add_measured_pose_args(p)
 
 
 @command("diagnose", "find which physical effect the model misses in static measurements",
@@ -127,7 +132,8 @@ def _run_diagnose(args) -> int:
     run = run_diagnosis(args.data, args.robot, _options(args), noise_um=args.noise,
                         noise_model=args.noise_model, modal=args.modal,
                         freq_noise_pct=args.freq_noise, progress=say,
-                        shape_noise_pct=args.shape_noise)
+                        shape_noise_pct=args.shape_noise, pose=args.pose,
+                        response=args.response)
     out(run.text())
     if args.report:
         wrote(run.write_history(args.report))

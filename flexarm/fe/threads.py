@@ -3,8 +3,21 @@
 from __future__ import annotations
 
 import contextlib
+import functools
 
 __all__ = ["one_blas_thread"]
+
+
+@functools.cache
+def _controller():
+    """One threadpoolctl controller per process: building one scans every loaded library,
+    which costs milliseconds, and the small products it guards are called thousands of
+    times (None without threadpoolctl)."""
+    try:
+        from threadpoolctl import ThreadpoolController
+    except ImportError:  # pragma: no cover - threadpoolctl is a declared dependency
+        return None
+    return ThreadpoolController()
 
 
 def one_blas_thread():
@@ -20,8 +33,7 @@ def one_blas_thread():
     ...     float((np.eye(3) @ np.ones(3)).sum())
     3.0
     """
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover - threadpoolctl is a declared dependency
+    controller = _controller()
+    if controller is None:  # pragma: no cover
         return contextlib.nullcontext()
-    return threadpool_limits(1, user_api="blas")
+    return controller.limit(limits=1, user_api="blas")

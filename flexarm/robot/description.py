@@ -155,7 +155,9 @@ class Robot:
     Links are listed base first; joint ``j`` (in order) has child ``links[j + 1]``
     and a parent listed earlier.  ``poses`` maps names to joint angles [rad].
     ``effects`` are the nonlinear joint laws (:class:`~flexarm.robot.effects.Effect` of
-    kind backlash, hardening or hysteresis); linear analyses ignore them.
+    kind backlash, hardening or hysteresis) and the fitted effects of kind
+    :data:`~flexarm.robot.effects.STORED` (tool compliance, balancer, measurement frame)
+    that every prediction compared with measurements adds; linear analyses ignore them.
     ``modal_damping`` maps a pose name to the modal damping ratios identified there,
     ``(freq_hz, zeta)`` tuples (``fit-damping --method modal``); the FRF at that pose
     uses them (:mod:`flexarm.validation.dynamic.pose_damping`).

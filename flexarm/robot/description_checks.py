@@ -169,9 +169,15 @@ def _validate_modal_damping(robot) -> None:
 
 
 def _validate_effects(robot) -> None:
-    from .effects import NONLINEAR
+    from .effects import NONLINEAR, STORED
 
     for e in robot.effects:
+        if e.kind in STORED:
+            if e.joint is not None and not 0 <= e.joint < len(robot.joints):
+                raise ValueError(f"effects: {e.label} names no joint of the robot")
+            if not all(math.isfinite(v) for _, v in e.params):
+                raise ValueError(f"effects: {e.label} has a non-finite parameter")
+            continue
         if e.kind not in NONLINEAR or e.joint is None or not 0 <= e.joint < len(robot.joints):
             raise ValueError(f"nonlinear: a robot carries joint laws of kind "
                              f"{'|'.join(NONLINEAR)} on one of its joints, got {e.label}")

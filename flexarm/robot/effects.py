@@ -20,6 +20,14 @@ kind              parameters                                  model
                                                               in parallel with the gear
 ``frame``         ``rx``, ``ry``, ``rz`` [rad], ``scale`` [-]  tracker frame misaligned:
                                                               small rotation and scale
+``foundation``    ``cx``, ``cy`` [rad/(N m)]                  foundation tilt about base
+                                                              x and y, each its own
+``mass``          ``mass`` [kg]                               added at the centre of mass
+                                                              of the joint's child link
+``loadcell``      ``scale`` [-]                               the static file's forces read
+                                                              ``1 + scale`` times the true
+``reflector``     ``ox``, ``oy``, ``oz`` [m]                  the measured point sits off
+                                                              the TCP (tool frame)
 ================  ==========================================  ============================
 
 :func:`parse_effect` reads the command-line form ``backlash:j2=0.1mrad``,
@@ -28,7 +36,10 @@ kind              parameters                                  model
 [N m/rad]), ``wrist:c45=0.5,c56=0.3`` (correlations of the wrist compliances),
 ``stiffness:j3=1.3`` (torsion *stiffness* x 1.3), ``links:c=1`` (the flexible model's
 links), ``tool:cxx=2e-7,cyz=5e-8`` (tool-frame compliance [m/N]), ``balancer:j2=3e5,s=1e5``
-(balancer stiffness ``kc`` and ``ks`` [N m/rad]) and ``frame:rz=1.5deg,scale=0.002``.
+(balancer stiffness ``kc`` and ``ks`` [N m/rad]), ``frame:rz=1.5deg,scale=0.002``,
+``foundation:kx=2e7`` (tilt stiffness about base x only [N m/rad]; ``ky=`` about y),
+``mass:l3=20kg`` (added to link 3), ``loadcell:s=0.03`` (forces read 3 % high) and
+``reflector:ox=30mm,oz=-10mm`` (the reflector's offset from the TCP, tool frame).
 How an effect changes an arm model is :mod:`flexarm.assembly.effects`.
 """
 
@@ -39,17 +50,47 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["Effect", "parse_effect", "KINDS", "NONLINEAR", "TOOL_PARAMS", "TOOL_INDEX"]
+__all__ = ["Effect", "parse_effect", "KINDS", "NONLINEAR", "STORED", "TOOL_PARAMS",
+           "TOOL_INDEX",
+           "LOWER_BOUNDS", "lower_bound"]
 
 #: Effects that make a joint law nonlinear (the robot file's ``[nonlinear]`` table).
 NONLINEAR = ("backlash", "hardening", "hysteresis")
 KINDS = ("stiffness", "backlash", "hardening", "hysteresis", "tilt", "base", "wrist", "links",
-         "tool", "balancer", "frame")
+         "tool", "balancer", "frame", "foundation", "mass", "loadcell", "reflector")
+#: Fitted effects a robot file keeps besides its springs, masses and joint laws (its
+#: ``[[effects]]`` array): what the arm adds to every static prediction (tool, balancer)
+#: and the measurement setup (tracker frame, load cell, reflector offset).
+STORED = ("tool", "balancer", "frame", "loadcell", "reflector")
 #: Parameters of the tool-frame compliance, in the order of :data:`TOOL_INDEX`.
 TOOL_PARAMS = ("cxx", "cyy", "czz", "cxy", "cxz", "cyz")
 TOOL_INDEX = ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))
+#: The smallest physical value of a parameter, where it has one: compliances, a scale of a
+#: compliance, a tool's direct compliances.  A fit keeps its parameters above these
+#: (Gauss-Newton steps are cut short of the bound), so no model it evaluates has a negative
+#: spring.  Signed amplitudes (a backlash width the score test may probe below zero, a
+#: balancer, a frame rotation) have none.
+LOWER_BOUNDS = {("stiffness", "scale"): 0.0, ("hardening", "extra"): 0.0,
+                ("hardening", "threshold"): 0.0, ("hysteresis", "radius"): 0.0,
+                ("tilt", "compliance"): 0.0, ("base", "compliance"): 0.0,
+                ("links", "compliance"): 0.0, ("tool", "cxx"): 0.0, ("tool", "cyy"): 0.0,
+                ("tool", "czz"): 0.0, ("frame", "scale"): -1.0, ("foundation", "cx"): 0.0,
+                ("foundation", "cy"): 0.0, ("mass", "mass"): 0.0, ("loadcell", "scale"): -0.5}
+
+
+def lower_bound(kind: str, name: str) -> float:
+    """The lower bound of parameter ``name`` of an effect of ``kind`` (``-inf`` if none).
+
+    Examples
+    --------
+    >>> lower_bound("tilt", "compliance"), lower_bound("balancer", "kc")
+    (0.0, -inf)
+    """
+    return LOWER_BOUNDS.get((kind, name), -np.inf)
+
+
 _UNITS = {"": 1.0, "rad": 1.0, "mrad": 1e-3, "urad": 1e-6, "nm": 1.0, "knm": 1e3,
-          "nm/rad": 1.0, "deg": np.pi / 180}
+          "nm/rad": 1.0, "deg": np.pi / 180, "kg": 1.0, "m": 1.0, "mm": 1e-3, "cm": 1e-2}
 
 
 @dataclass(frozen=True)
@@ -86,7 +127,9 @@ class Effect:
 
     @property
     def label(self) -> str:
-        """Short human label, e.g. ``joint 2 backlash``."""
+        """Short human label, e.g. ``joint 2 backlash``, ``link 3 added mass``."""
+        if self.kind == "mass":
+            return f"link {self.joint + 1} added mass"
         return self.kind if self.joint is None else f"joint {self.joint + 1} {self.kind}"
 
     def to_dict(self) -> dict:
@@ -115,6 +158,12 @@ def _value(text: str) -> float:
     return float(m.group(1)) * _UNITS[m.group(2).lower()]
 
 
+def _compliance(text: str) -> float:
+    """A compliance [rad/(N m)] from a stiffness [N m/rad]; 0 (rigid) for 0."""
+    k = _value(text)
+    return 0.0 if k == 0 else 1.0 / k
+
+
 def parse_effect(spec: str, n_joints: int = 6) -> Effect:
     """Effect from its command-line form (see the module docstring).
 
@@ -135,13 +184,13 @@ def parse_effect(spec: str, n_joints: int = 6) -> Effect:
         items[k.strip().lower()] = v.strip()
     joint, amount = None, None
     for k in list(items):
-        if re.fullmatch(r"j\d+", k):
+        if re.fullmatch(r"[jl]\d+", k):
             joint = int(k[1:]) - 1
             if not 0 <= joint < n_joints:
                 raise ValueError(f"effect '{spec}': joint {joint + 1} outside 1..{n_joints}")
             amount = _value(items.pop(k))
     needs_joint = kind in ("stiffness", "backlash", "hardening", "hysteresis", "tilt",
-                           "balancer")
+                           "balancer", "mass")
     if needs_joint and joint is None:
         raise ValueError(f"effect '{spec}': name the joint, e.g. {kind}:j2=...")
     if kind == "stiffness":
@@ -168,4 +217,13 @@ def parse_effect(spec: str, n_joints: int = 6) -> Effect:
     if kind == "frame":
         return Effect(kind, None, tuple((k, _value(items.get(k, "0")))
                                         for k in ("rx", "ry", "rz", "scale")))
+    if kind == "foundation":
+        return Effect(kind, None, tuple((f"c{a}", _compliance(items.get(f"k{a}", "0")))
+                                        for a in "xy"))
+    if kind == "mass":
+        return Effect(kind, joint, (("mass", amount),))
+    if kind == "loadcell":
+        return Effect(kind, None, (("scale", _value(items.get("s", "0"))),))
+    if kind == "reflector":
+        return Effect(kind, None, tuple((k, _value(items.get(k, "0"))) for k in ("ox", "oy", "oz")))
     raise ValueError(f"unknown effect kind '{kind}' (known: {', '.join(KINDS)})")

@@ -40,6 +40,10 @@ class Tolerances:
     max_backlash: float = 5e-3
     #: Relative standard uncertainty of a measured natural frequency [-] (modal tests).
     freq_noise: float = 0.005
+    #: Largest relative frequency difference of a measured mode and its model partner
+    #: inside a fit [-]: a measured mode farther from every model mode stays without one
+    #: (at the fixed cost of :mod:`~flexarm.validation.dynamic.pairing`).
+    pair_window: float = 0.3
     #: Largest plausible link compliance factor vs the CAD flexible model [-].
     max_link_compliance: float = 5.0
     #: A winner is only a proxy of an aliased candidate that gains more on the residual
@@ -57,6 +61,15 @@ class Tolerances:
     max_refits: int = 3
     #: Largest plausible misalignment of the measurement frame: rotation [rad], scale [-].
     max_frame_error: float = 0.1
+    #: Largest plausible balancer stiffness at a measured angle, as a share of the joint's
+    #: gear stiffness [-].
+    max_balancer_share: float = 1.0
+    #: Largest plausible relative error of a load cell [-].
+    max_force_scale: float = 0.2
+    #: Largest plausible distance of the measured point from the TCP [m].
+    max_reflector_offset: float = 0.2
+    #: Largest plausible added mass, as a share of the arm's moving mass [-].
+    max_added_mass_share: float = 0.3
     #: Largest share of the readings the outlier test may flag, one at a time [-].
     max_outlier_share: float = 0.1
     #: Uncertainty multiplier of a discounted reading (outlier) [-].

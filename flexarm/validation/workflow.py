@@ -9,7 +9,7 @@ that a command passes its options through unchanged.  The virtual lab is
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +17,7 @@ import numpy as np
 from ..fe.typing import PathType
 from ..robot.description import Robot
 from ..robot.formats import write as write_robot_file
-from .data.formats import read_measurements
+from .data.formats import UffOptions, read_measurements
 from .data.measurements import FrfData, ModalData, PathData, StaticData
 from .data.shape_data import ShapeData
 from .diagnosis.history import robot_with_effects, write_history
@@ -34,19 +34,21 @@ __all__ = ["compare", "DiagnosisRun", "run_diagnosis"]
 Measurements = StaticData | ModalData | FrfData | PathData
 
 
-def _read(data: Measurements | PathType, robot: Robot | None = None) -> Measurements:
+def _read(data: Measurements | PathType, robot: Robot | None = None,
+          uff: UffOptions | None = None) -> Measurements:
     """``data`` as read; a file's joint angles are checked against ``robot``'s limits."""
     if isinstance(data, Measurements):
         return data
     limits = None
     if robot is not None and len(robot.joints) == 6:  # the schemas carry q1..q6
         limits = np.column_stack([robot.lower, robot.upper])
-    return read_measurements(data, limits=limits)
+    return read_measurements(data, limits=limits, uff=uff)
 
 
 def compare(data: Measurements | PathType, robot: Robot | PathType | None = None,
             options: ValidationOptions = DEFAULT_OPTIONS, *, noise_um: float = 15.0,
-            freq_noise_pct: float = 0.5, progress: Callable[[str], None] | None = None
+            freq_noise_pct: float = 0.5, progress: Callable[[str], None] | None = None,
+            pose: str | None = None, response: str | None = None, tcp_node: int | None = None
             ) -> Comparison | ModalComparison | FrfComparison:
     """Compare the model of ``robot`` with measurements of any kind.
 
@@ -65,6 +67,10 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
         Relative noise of measured natural frequencies [%].
     progress : callable (str) -> None, optional
         Gets a line per step of a flexible-model build.
+    pose, response, tcp_node
+        What a universal file from another tool does not say: the pose it was measured
+        at (a pose name or ``q1,...,q6`` [deg]), what a general ordinate is, the TCP node
+        (:meth:`~.data.formats.uff.UffOptions.at`).
 
     Returns
     -------
@@ -81,7 +87,8 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
     [('c1', 'y', 'y'), ('c1', 'y', 'x')]
     """
     robot = load(robot)
-    data_path, data = (None if isinstance(data, Measurements) else data), _read(data, robot)
+    uff = UffOptions.at(robot, pose, response, tcp_node)
+    data_path, data = (None if isinstance(data, Measurements) else data), _read(data, robot, uff)
     models = validation_models(robot, options, progress)
     effects = models.effects_with_links()
     if isinstance(data, ShapeData):  # mode shapes: pairing by MAC
@@ -152,7 +159,8 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
                   noise_model: str = "shared", modal: ModalData | PathType | None = None,
                   freq_noise_pct: float = 0.5, damping_noise_pct: float = 5.0,
                   progress: Callable[[str], None] | None = None,
-                  shape_noise_pct: float = 100 * SHAPE_NOISE) -> DiagnosisRun:
+                  shape_noise_pct: float = 100 * SHAPE_NOISE, pose: str | None = None,
+                  response: str | None = None) -> DiagnosisRun:
     """Diagnose which effects the E-model of ``robot`` misses in static ``data``
     (:func:`~.diagnose.diagnose`).
 
@@ -163,7 +171,8 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
     robot : Robot, path or None
         A linear robot (no ``[nonlinear]`` table) or its file (None: the demo arm).
     options : ValidationOptions
-        Models; with ``options.flexible`` (or ``modal``) link flexibility is a candidate.
+        Models; with ``options.flexible`` link flexibility is a candidate (the E-model
+        needs no seats, so modal data alone do not build the flexible model).
     noise_um : float
         Tracker noise [µm] of rows without a ``sigma`` column.
     noise_model : {"shared", "independent"}
@@ -182,6 +191,9 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
         :func:`~.compare_shapes.measurement_points`).
     progress : callable (str) -> None, optional
         Gets a line per step of a flexible-model build.
+    pose, response
+        The pose a universal ``modal`` file from another tool was measured at, and what
+        its general ordinates are (:meth:`~.data.formats.uff.UffOptions.at`).
     """
     robot = load(robot)
     if robot.effects:
@@ -189,10 +201,8 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
                          "a [nonlinear] table")
     data = _read(data, robot)
     modal_path = None if modal is None or isinstance(modal, Measurements) else modal
-    modal = None if modal is None else _read(modal, robot)
+    modal = None if modal is None else _read(modal, robot, UffOptions.at(robot, pose, response))
     damping = _damping_check(modal, robot, options, damping_noise_pct)
-    if modal is not None:
-        options = replace(options, flexible=True)
     models = validation_models(robot, options, progress)
     shapes = {}
     if isinstance(modal, ShapeData):

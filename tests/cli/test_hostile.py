@@ -591,8 +591,8 @@ def test_fuzzed_rapid_module_never_escapes(fuzz_dir, data):
 def test_vectorised_column_parse_is_bit_for_bit_the_exact_parser(unit):
     import numpy as np
 
-    from flexarm.validation.data.units import parse_decimal_column as _reals
     from flexarm.validation.data.units import QUANTITIES, parse_values
+    from flexarm.validation.data.units import parse_decimal_column as _reals
 
     factor = next(f for units in QUANTITIES.values() for u, f in units.items() if u == unit)
     rng = np.random.default_rng(7)

@@ -106,7 +106,7 @@ def test_cli_validation_errors_are_one_line(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_cli_lab_modal_diagnose_links(tmp_path, capsys):
-    """flexarm lab --effect links:c=1 --modal m.csv; diagnose s.csv [--flexible | --modal m.csv]."""
+    """flexarm lab --effect links:c=1 --modal m.csv; diagnose s.csv --flexible [--modal m.csv]."""
     s, m = tmp_path / "s.csv", tmp_path / "m.csv"
     pert = [a for j, k in enumerate(PERTURB) for a in ("--effect", f"stiffness:j{j + 1}={k}")]
     assert main(["lab", "--effect", "links:c=1", *pert, "--dirs", "x,y,z,-x,-y,-z",
@@ -114,5 +114,5 @@ def test_cli_lab_modal_diagnose_links(tmp_path, capsys):
     assert main(["diagnose", str(s), "--flexible"]) == 0
     out = capsys.readouterr().out
     assert "add modal data" in out and "ACCEPTED" not in out
-    assert main(["diagnose", str(s), "--modal", str(m)]) == 0
+    assert main(["diagnose", str(s), "--flexible", "--modal", str(m)]) == 0
     assert "ACCEPTED: link flexibility" in capsys.readouterr().out

@@ -59,7 +59,8 @@ def test_defaults_of_base_and_links():
     ("tilt:k=1e7", "effect 'tilt:k=1e7': name the joint, e.g. tilt:j2=..."),
     ("stiffness:c=2", "effect 'stiffness:c=2': name the joint, e.g. stiffness:j2=..."),
     ("backlash:j2=1parsec", "cannot read value '1parsec' (number with unit among "
-                            "['deg', 'knm', 'mrad', 'nm', 'nm/rad', 'rad', 'urad'])"),
+                            "['cm', 'deg', 'kg', 'knm', 'm', 'mm', 'mrad', 'nm', 'nm/rad', "
+                            "'rad', 'urad'])"),
     ("wobble:j2=1", "unknown effect kind 'wobble' (known: " + ", ".join(KINDS) + ")"),
 ])
 def test_errors(spec, message):

@@ -72,4 +72,4 @@ def differences(run: dict, golden: dict, rtol: float = 1e-7) -> list[str]:
 if __name__ == "__main__":
     GOLDEN.parent.mkdir(exist_ok=True)
     GOLDEN.write_text(json.dumps(fingerprint(Path(sys.argv[1])), indent=1) + "\n")
-    print(f"wrote {GOLDEN}")
+    print(f"wrote {GOLDEN}")  # noqa: T201

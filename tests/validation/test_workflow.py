@@ -18,7 +18,7 @@ from flexarm.validation.dynamic.compare import (
     compare_frf,
     compare_modal,
 )
-from flexarm.validation.dynamic.modal import virtual_modal
+from flexarm.validation.lab.modal_lab import virtual_modal
 from flexarm.validation.lab.virtual_lab import run_lab, virtual_lab
 from flexarm.validation.models import ValidationModels, ValidationOptions, validation_models
 from flexarm.validation.static.compare import Comparison, compare_static

@@ -35,6 +35,7 @@ from ..description import (
 )
 from ..joints import JointModel
 from . import toml_keys as tk
+from .toml_effects import effects_from_tables, effects_tables
 from .toml_modal_damping import modal_damping_from_table, modal_damping_table
 from .toml_nonlinear import nonlinear_effects, nonlinear_table
 
@@ -217,7 +218,8 @@ def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:
         wrist_coupling=tuple(map(tuple, w["coupling"])) if "coupling" in w else None,
         wrist_stiffness=tuple(map(tuple, w["stiffness"])) if "stiffness" in w else None,
         source=source,
-        effects=nonlinear_effects(tk.table(data, "nonlinear", ""), joint_names),
+        effects=(nonlinear_effects(tk.table(data, "nonlinear", ""), joint_names)
+                 + effects_from_tables(tk.tables(data, "effects"), joint_names)),
         modal_damping=modal_damping_from_table(tk.table(data, "modal_damping", "")),
     )
 
@@ -335,6 +337,9 @@ def to_dict(robot: Robot, folder: Path) -> dict:
     nonlinear = nonlinear_table(robot)
     if nonlinear:
         out["nonlinear"] = nonlinear
+    stored = effects_tables(robot.effects, robot.joint_names)
+    if stored:
+        out["effects"] = stored
     if robot.modal_damping:
         out["modal_damping"] = modal_damping_table(robot.modal_damping)
     return out

@@ -15,7 +15,7 @@ JOINT_KEYS = {"name", "parent", "child", "origin", "rpy_deg", "axis", "limits_de
                "gear_ratio", "model", "emodel"}
 LINK_KEYS = {"name", "mesh", "units", "material", "lumped", "regions", "volume_meshes"}
 TOP_KEYS = {"format_version", "name", "model", "base", "tool", "poses", "wrist", "links",
-             "joints", "nonlinear", "modal_damping"}
+             "joints", "nonlinear", "modal_damping", "effects"}
 OPTION_KEYS = {"element_order", "mesh_size", "cb_modes", "mesher"}
 BASE_KEYS = {"support", "stiffness", "damping_ratio"}
 TOOL_KEYS = {"xyz", "rpy_deg", "link"}

@@ -52,6 +52,8 @@ def nonlinear_table(robot) -> dict:
     """The ``[nonlinear]`` table of ``robot.effects`` (empty when there are none)."""
     table: dict = {}
     for e in robot.effects:
+        if e.kind not in NONLINEAR_KEYS:
+            continue
         d = table.setdefault(robot.joint_names[e.joint], {})
         d.update({key: e.get(name) for key, name in NONLINEAR_KEYS[e.kind]})
     return table

@@ -84,7 +84,9 @@ class Points:
         bad = self.nodes[rows] != nodes
         if np.any(bad):
             raise ValueError(f"node {nodes[bad][0]} is not in the measurement points table "
-                             f"(has {', '.join(str(n) for n in np.sort(self.nodes))})")
+                             f"(has {', '.join(str(n) for n in np.sort(self.nodes))}): say "
+                             f"where the file's nodes sit on the arm in <data>.points.csv "
+                             f"next to it (columns node, link, x_mm, y_mm, z_mm)")
         return rows
 
     def __eq__(self, other) -> bool:

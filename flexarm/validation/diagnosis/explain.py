@@ -106,14 +106,18 @@ def static_notes(arm: ArmModel, links_tested: bool = False, problem=None,
     if flexible:
         notes.append("link flexibility: part of this model (flexible links)")
     elif not links_tested:
+        modal = bool(getattr(problem, "n_modal", 0))
         notes.append("link flexibility: aliased/undetectable from TCP-only static data "
                       "(link bending scales with the same loads as the joint compliances); "
-                      "not tested here: give the flexible model (diagnose --flexible) and "
-                      "modal data (--modal)")
+                      "not tested here: give the flexible model (diagnose --flexible)"
+                      + ("" if modal else " and modal data (--modal)"))
     return tuple(notes)
 
 
 def _payload_note(problem) -> str:
+    if getattr(problem, "n_modal", 0):
+        return ("payload and added masses: tested with the modal data (an added mass on each "
+                "link lowers the frequencies by its share of each mode's kinetic energy)")
     n = "each" if problem is None else f"each of the {len(problem.groups)}"
     return (f"payload mass: untestable with relative static data (its weight cancels "
             f"against the first reading of {n} series); it only moves the torque where "

@@ -16,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ...assembly.effects import apply_effects, resolve
+from ...assembly.effects import apply_effects, body_centre_of_mass, resolve
 from ...assembly.system import ArmModel
-from ...robot.description import BaseSupport, Robot
-from ...robot.effects import NONLINEAR
+from ...robot.description import BaseSupport, LumpedMass, Robot
+from ...robot.effects import NONLINEAR, STORED
 from ..static.plots import plot_history
 
 __all__ = ["robot_with_effects", "write_history"]
@@ -46,14 +46,16 @@ def _fitted_joint(joint, fitted, identified: bool = False):
 
 
 def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> Robot:
-    """``robot`` with the linear ``effects`` built into its springs and the nonlinear ones
-    (resolved to their SI model form against ``arm``) as its ``effects``.
+    """``robot`` with the linear ``effects`` built into its springs, and the nonlinear
+    ones (resolved to their SI model form against ``arm``) and those of kind
+    :data:`~flexarm.robot.effects.STORED` (tool, balancer, frame, load cell, reflector)
+    as its ``effects``; an added mass becomes a lumped mass of its link.
 
     A joint whose torsion a ``stiffness`` effect fitted loses its placeholder
     mark (:attr:`~flexarm.robot.joints.JointModel.source` becomes ``"given"``).
     """
-    linear = [e for e in effects if e.kind not in NONLINEAR]
-    nonlinear = tuple(resolve(e, arm) for e in effects if e.kind in NONLINEAR)
+    linear = [e for e in effects if e.kind not in NONLINEAR + STORED + ("mass",)]
+    kept = tuple(resolve(e, arm) for e in effects if e.kind in NONLINEAR + STORED)
     new, _ = apply_effects(arm, linear)
     identified = {e.joint for e in linear if e.kind in _JOINT_FITS and e.joint is not None}
     joints = tuple(_fitted_joint(j, m, i in identified)
@@ -64,13 +66,21 @@ def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> Robot:
                            robot.base.damping_ratio)
     wrist = None if new.wrist_stiffness is None else tuple(
         map(tuple, np.asarray(new.wrist_stiffness).tolist()))
-    links = robot.links
+    links = list(robot.links)
+    for e in effects:  # an added mass at its link's centre of mass, as the fit put it
+        if e.kind == "mass" and e.get("mass") > 0:
+            link = links[e.joint + 1]
+            com = body_centre_of_mass(arm.bodies[e.joint + 1])
+            extra = LumpedMass("added mass (diagnose)", float(e.get("mass")),
+                               tuple(float(v) for v in com))
+            links[e.joint + 1] = replace(link, lumped=tuple(link.lumped) + (extra,))
+    links = tuple(links)
     c = sum(e.get("compliance") for e in effects if e.kind == "links")
     if c > 0:  # link flexibility: the flexible model with Young's modulus E / c
         links = tuple(replace(lk, material=replace(lk.material, E=lk.material.E / c))
                       for lk in robot.links)
     return replace(robot, joints=joints, base=base, wrist_stiffness=wrist, links=links,
-                   effects=nonlinear)
+                   effects=kept)
 
 
 def write_history(folder, diagnosis, nominal_rms: float | None = None,

@@ -31,7 +31,15 @@ from ..data.shape_data import Points, ShapeData
 from ..dynamic.modal import ModalProblem
 from ..dynamic.shape_fit import SHAPE_NOISE, ShapeProblem
 from ..static.candidates import Screen, library, load_proposal, screen, status_of
-from ..static.fit import FitResult, Problem, baseline_effects, chi2_band, fit_model, heldout_rms
+from ..static.fit import (
+    MODEL_ERRORS,
+    FitResult,
+    Problem,
+    baseline_effects,
+    chi2_band,
+    fit_model,
+)
+from ..static.heldout import heldout_rms
 from ..static.misfit import Misfit, misfit_verdict
 from ..static.refit import physical_refit as _refit
 from ..static.refit import shape_marginal as _shape_marginal
@@ -40,6 +48,7 @@ from ..static.shape_search import research_shapes, shaped
 from ..tolerances import tol
 from .explain import base_note, explain, links_note, mimic, signature_corr, span_corr, static_notes
 from .identifiability import identifiability, leave_one_pose_out
+from .plausibility import plausible
 from .results import (
     CandidateReport,
     Checks,
@@ -58,8 +67,11 @@ MEASUREMENT_STRUCTURES = ("offsets", "drift", "frame")
 #: Load-linear structures a candidate with a small unique share may be borrowing from: it
 #: is trusted only if its refit leaves none of them.
 LINEAR_STRUCTURES = ("tool", "joint_angle", "frame")
+#: A candidate -> the simpler one it contains (the isotropic foundation is the anisotropic
+#: one with equal compliances): the richer one wins only by ``tol.delta_bic_accept``.
+NESTED = {"foundation": "base"}
 #: Candidates with several amplitudes of which one excluding zero is enough.
-ANY_AMPLITUDE = ("wrist", "tool", "frame", "balancer")
+ANY_AMPLITUDE = ("wrist", "tool", "frame", "balancer", "foundation", "reflector")
 
 log = logging.getLogger(__name__)
 
@@ -76,6 +88,17 @@ class _Refit:
     explanation: str
 
 
+def _rank(winner: Winner) -> tuple:
+    """Order of refitted candidates: those passing every check first, then by dBIC."""
+    return winner.checks.passed, winner.dbic
+
+
+def _reason(exc: BaseException) -> str:
+    """One line of what went wrong in a candidate's fit."""
+    text = str(exc).strip().splitlines()
+    return text[0] if text else type(exc).__name__
+
+
 def arm_joints(problem: Problem) -> int:
     """Number of baseline effects (one torsion scale per joint) in front of the others."""
     return problem.arm.chain.n_joints
@@ -84,18 +107,6 @@ def arm_joints(problem: Problem) -> int:
 def _rms(problem: Problem, effects) -> float:
     r = (problem.y - problem.predict(effects))[~problem.is_ref]
     return float(np.sqrt(np.mean(r**2))) if r.size else float("nan")
-
-
-def _plausible(kind: str, theta: np.ndarray) -> bool:
-    if kind == "links":
-        return bool(np.all(theta > 0) and np.all(theta < tol.max_link_compliance))
-    if kind in ("wrist", "tool", "balancer"):
-        return True
-    if kind == "frame":
-        return bool(np.all(np.abs(theta) < tol.max_frame_error))
-    if kind in ("backlash", "hysteresis"):
-        return bool(np.all(theta > 0) and np.all(theta < tol.max_backlash))
-    return bool(np.all(theta > 0))
 
 
 def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
@@ -131,6 +142,17 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
                                points, shape_noise, builds)
     else:
         problem = ModalProblem(arm, data, sigma, noise_model, flexible, modal, freq_noise)
+    channels = ()
+    if isinstance(problem, ShapeProblem):  # a reversed sensor spoils every pair: turn it
+        flips = problem.reversed_channels(problem.start_effects)
+        if flips:
+            channels = tuple(line for _, line in flips)
+            log.warning("%s; turned for the diagnosis", "; ".join(channels))
+            shapes = np.array(modal.shapes)
+            shapes[:, [i for i, _ in flips]] *= -1
+            problem = ShapeProblem(arm, data, sigma, noise_model, flexible,
+                                   replace(modal, shapes=shapes), freq_noise, points,
+                                   shape_noise, builds)
     for _ in range(3):
         dg, final_fit = _search(problem, max_effects, heldout, poses, exclude)
         rs = residual_structure(problem, final_fit.effects, final_fit.sensitivity,
@@ -142,7 +164,9 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
     rows = np.flatnonzero(problem.discounted)
     discounted = tuple((str(data.series[i]), int(data.steps[i])) for i in rows)
     final = dg.final
-    verdict = misfit_verdict(final.label, final.chi2_red, final.band, rs, discounted)
+    lonely = tuple(problem.lonely_lines(dg.final_effects)) if modal is not None else ()
+    verdict = misfit_verdict(final.label, final.chi2_red, final.band, rs, discounted, lonely,
+                             channels)
     log.info("diagnosis done: %d effects accepted%s", len(dg.accepted),
              ", unexplained misfit" if verdict.unexplained else "")
     notes = _notes(arm, problem, flexible, rs)
@@ -185,8 +209,11 @@ def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()
         accepted.append(refit.fit.effects[-1])
         label = label + " + " + refit.winner.label
         if len(accepted) > 1:  # every shape again, with all accepted effects free
-            effects = list(research_shapes(problem, effects, free, scales, prior, n_shape,
-                                           shaped(effects, n_base)).effects)
+            try:
+                effects = list(research_shapes(problem, effects, free, scales, prior, n_shape,
+                                               shaped(effects, n_base)).effects)
+            except MODEL_ERRORS as exc:  # keep the shapes found one at a time
+                log.info("shape search again failed: %s", _reason(exc))
     if steps[-1].accepted:  # the loop ran out of iterations after an acceptance
         fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
         steps.append(_last_version(problem, label, fr, effects, free, scales, prior,
@@ -204,28 +231,69 @@ def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, p
     Returns ``version`` with the ranking and the winner, and the refit (None if no
     candidate was testable)."""
     done = {e.kind + (f"_j{e.joint + 1}" if e.joint is not None else "") for e in accepted}
-    screens = [screen(problem, fr, c) for c in cands if c.name not in done]
+    screens, fit_failed = [], {}
+    for c in cands:
+        if c.name in done:
+            continue
+        try:
+            screens.append(screen(problem, fr, c))
+        except MODEL_ERRORS as exc:  # its trial model left the domain where it is valid
+            fit_failed[c.name] = (c, _reason(exc))
     testable = sorted((s for s in screens if status_of(s) is None), key=lambda s: -s.dbic)
     best, refit, untrusted = None, None, {}
-    # a best candidate that fails on trust, as a proxy or on a fault it leaves (another
+    # the leading candidates are refitted and the one whose refit explains most wins: a
+    # screen is a linearisation, and with vibration data a candidate may look better
+    # than it fits.  One that fails on trust, as a proxy or on a fault it leaves (another
     # effect still missing can look like one) gives way to the next, so a true effect
-    # behind it is still found
-    for s in testable[:tol.max_refits]:
-        r = _refit_best(problem, fr, s, screens, free, scales, prior, n_shape,
-                        version.rms_heldout, heldout)
+    # behind it is still found; one whose refit fails is rejected with the reason
+    refits: dict = {}
+
+    def refit_of(s):
+        if s.candidate.name not in refits:
+            refits[s.candidate.name] = _refit_best(problem, fr, s, screens, free, scales,
+                                                   prior, n_shape, version.rms_heldout, heldout,
+                                                   set(untrusted))
+        return refits[s.candidate.name]
+
+    seen = set()
+    for s in testable:
+        if len(seen) >= tol.max_refits:
+            break
+        try:
+            r = refit_of(s)
+            simpler = next((x for x in testable
+                            if x.candidate.name == NESTED.get(s.candidate.name)), None)
+            if simpler is not None:  # the simpler one stands in unless clearly worse
+                rs = refit_of(simpler)
+                if r.winner.dbic - rs.winner.dbic < tol.delta_bic_accept:
+                    s, r = simpler, rs
+        except MODEL_ERRORS as exc:
+            fit_failed[s.candidate.name] = (s.candidate, _reason(exc))
+            continue
+        if s.candidate.name in seen:
+            continue
+        seen.add(s.candidate.name)
         if best is None:
             best, refit = s, r
         failed = r.winner.checks.failed
-        if not {"trusted", "distinct", "clean"} & set(failed):
+        if {"trusted", "distinct", "clean"} & set(failed):
+            untrusted[s.candidate.name] = (r, failed)
+            continue
+        modal = bool(getattr(problem, "n_modal", 0))
+        if (not modal or refit.winner.name in untrusted
+                or _rank(r.winner) > _rank(refit.winner)):
             best, refit = s, r
+        if not modal:
             break
-        untrusted[s.candidate.name] = (r, failed)
-    reports = [_report(problem, fr, s, screens, best, refit, poses) for s in screens]
+    reports = [_report(problem, fr, s, screens, best, refit, poses) for s in screens
+               if s.candidate.name not in fit_failed]
+    reports += [CandidateReport(c.name, c.label, "rejected", np.nan, np.nan, np.nan,
+                                f"fit failed ({why})") for c, why in fit_failed.values()]
     reports = [replace(r, status="rejected", detail="failed: " + ", ".join(untrusted[r.name][1]))
                if r.name in untrusted and (refit is None or r.name != refit.winner.name) else r
                for r in reports]
     order = {"accepted": 0, "rejected": 1, "aliased": 2, "untestable": 3}
-    reports.sort(key=lambda r: (order[r.status], -r.dbic))
+    reports.sort(key=lambda r: (order[r.status], -np.nan_to_num(r.dbic, nan=-np.inf)))
     if refit is None:
         return replace(version, candidates=tuple(reports)), None
     return replace(version, candidates=tuple(reports), winner=refit.winner,
@@ -233,7 +301,7 @@ def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, p
 
 
 def _refit_best(problem: Problem, fr, best: Screen, screens, free, scales, prior,
-                n_shape: int, cur_ho: float, heldout: bool) -> _Refit:
+                n_shape: int, cur_ho: float, heldout: bool, vetoed=()) -> _Refit:
     """Refit the best testable candidate with the current model and check it for
     acceptance (module docstring, step 5)."""
     c = best.candidate
@@ -272,9 +340,14 @@ def _refit_best(problem: Problem, fr, best: Screen, screens, free, scales, prior
                 and status_of(s) is None and s.unique < tol.trusted_share
                 and s.dchi2 > best.dchi2 and s.candidate.n_params < c.n_params
                 and span_corr(s.columns, best.columns) > tol.proxy_correlation]
+    # the simpler candidate a richer one contains is weighed by refits, not as a proxy
+    # (and one whose own refit already failed on trust or on a fault it leaves is no
+    # better explanation)
+    proxies = [s for s in proxies if NESTED.get(c.name) != s.candidate.name
+               and s.candidate.name not in vetoed]
     checks = Checks(dbic=bool(dbic > tol.delta_bic_accept),
                     heldout=bool(new_ho < tol.heldout_gain * cur_ho) if heldout else True,
-                    plausible=_plausible(c.kind, theta),
+                    plausible=plausible(problem, fr2.effects[-1], keep),
                     interval=bool(excl.any() if c.kind in ANY_AMPLITUDE else excl.all()),
                     distinct=not proxies, trusted=trusted, clean=clean)
     winner = Winner(
@@ -346,9 +419,8 @@ def _last_version(problem: Problem, label: str, fr, effects, free, scales, prior
 
 def _notes(arm: ArmModel, problem: Problem, flexible: ArmModel | None,
            structure=None) -> tuple[str, ...]:
-    """Effects these data cannot test, and measured modes no model mode matched."""
-    return (static_notes(arm, flexible is not None, problem, structure)
-            + tuple("modal data: " + u for u in getattr(problem, "unmatched", ())))
+    """Effects these data cannot test."""
+    return static_notes(arm, flexible is not None, problem, structure)
 
 
 #END

@@ -23,7 +23,18 @@ from ...fe.text import text_table
 from ...fe.typing import PathType
 from ..data.formats.csv_points import read_points
 from ..data.shape_data import Points, ShapeData
-from .mac import MAC_THRESHOLD, automac, comac, mac, pair_modes, plot_mac
+from .mac import (
+    FREQ_RATIO,
+    MAC_THRESHOLD,
+    automac,
+    comac,
+    mac,
+    moving_points,
+    pair_modes,
+    plot_mac,
+    real_shapes,
+    reversed_channels,
+)
 from .modal import match_modes
 from .shapes import default_points, model_shapes
 
@@ -57,6 +68,12 @@ class PoseCorrelation:
         Measurement points.
     comac : (k,) float
         CoMAC of each point over the paired modes.
+    moving : (k,) bool
+        The point moves at least 10 % of the most-moving one (:func:`~.mac.moving_points`):
+        only those can be "the worst" (a point at rest has a CoMAC of noise).
+    paired_shapes : (A, B)
+        Each measured shape (real) and the model shape most like it within the
+        frequency window, (nA, m) each: what a reversed channel is judged on.
     """
 
     pose: str
@@ -69,6 +86,8 @@ class PoseCorrelation:
     by_frequency: np.ndarray
     nodes: np.ndarray
     comac: np.ndarray
+    moving: np.ndarray = None
+    paired_shapes: tuple = ()
 
     @property
     def swapped(self) -> np.ndarray:
@@ -83,6 +102,21 @@ class ShapeComparison:
     poses: tuple
     threshold: float = MAC_THRESHOLD
     label: str = "model"
+    dofs: tuple = ()
+
+    def reversed_channels(self) -> list[str]:
+        """One line per channel whose sign flip raises the mean MAC of the measured modes
+        with their most alike model modes, over every pose (:func:`~.mac.reversed_channels`):
+        a sensor mounted the wrong way round."""
+        pairs = [pc.paired_shapes for pc in self.poses if len(pc.paired_shapes)
+                 and len(pc.paired_shapes[0])]
+        if not pairs or not self.dofs:
+            return []
+        A = np.concatenate([a for a, _ in pairs])
+        B = np.concatenate([b for _, b in pairs])
+        return [f"channel {self.dofs[i]} looks reversed: flipping its sign raises the mean "
+                f"MAC from {before:.3f} to {after:.3f}"
+                for i, before, after in reversed_channels(A, B)]
 
     def text(self) -> str:
         """Pairs per pose (measured and model mode, frequencies, MAC), unpaired modes,
@@ -103,9 +137,11 @@ class ShapeComparison:
             worst = np.unravel_index(np.argmax(off), off.shape) if off.size else (0, 0)
             lines.append(f"{pc.pose}: AutoMAC largest off-diagonal {off.max(initial=0):.3f} "
                          f"(modes {worst[0] + 1} and {worst[1] + 1})")
-            order = np.argsort(pc.comac)[:3]
-            lines.append(f"{pc.pose}: lowest CoMAC at nodes " + ", ".join(
+            moving = np.ones(len(pc.comac), bool) if pc.moving is None else pc.moving
+            order = [i for i in np.argsort(np.where(moving, pc.comac, np.inf))[:3] if moving[i]]
+            lines.append(f"{pc.pose}: lowest CoMAC at nodes that move " + ", ".join(
                 f"{pc.nodes[i]} ({pc.comac[i]:.3f})" for i in order))
+        lines += self.reversed_channels()
         n_un = sum(int(np.sum(pc.model < 0)) for pc in self.poses)
         lines.append(f"{n_un} measured mode(s) without a model partner at MAC >= "
                      f"{self.threshold:g}" if n_un else
@@ -160,11 +196,14 @@ def _pose(arm: ArmModel, data: ShapeData, rows: np.ndarray, points: Points, buil
     M = mac(A, B)
     pairing = pair_modes(M, f_meas, f_model, threshold)
     ok = pairing.paired
+    near = np.maximum(f_model[None, :] / f_meas[:, None],
+                      f_meas[:, None] / f_model[None, :]) <= FREQ_RATIO
     nodes = list(dict.fromkeys(data.nodes.tolist()))
     cm = comac(A[ok], B[pairing.model[ok]], data.nodes) if ok.any() else np.zeros(len(nodes))
     return PoseCorrelation(str(data.poses[rows[0]]), f_meas, f_model, M, automac(A),
                            pairing.model, pairing.mac, match_modes(f_meas, f_model),
-                           np.array(nodes), cm)
+                           np.array(nodes), cm, moving_points(A, data.nodes),
+                           (real_shapes(A), B[np.argmax(np.where(near, M, -1.0), axis=1)]))
 
 
 def compare_shapes(arm: ArmModel, data: ShapeData, points: Points, effects=(),
@@ -188,7 +227,7 @@ def compare_shapes(arm: ArmModel, data: ShapeData, points: Points, effects=(),
     Examples
     --------
     >>> from flexarm.assembly.examples import two_link_arm
-    >>> from flexarm.validation.dynamic.modal import virtual_shapes
+    >>> from flexarm.validation.lab.modal_lab import virtual_shapes
     >>> arm = two_link_arm()
     >>> pts = Points(nodes=[1, 2], links=[1, 2], positions=[[0.5, 0, 0], [1.0, 0, 0]])
     >>> data = virtual_shapes(arm, {"A": np.array([0.0, 0.3])}, pts, n_modes=2)
@@ -200,7 +239,9 @@ def compare_shapes(arm: ArmModel, data: ShapeData, points: Points, effects=(),
     model = apply_effects(links_arm(arm, flexible, c), rest)[0]
     labels = list(dict.fromkeys(data.poses.tolist()))
     return ShapeComparison(tuple(_pose(model, data, data.pose_rows(p), points, builds,
-                                       threshold) for p in labels), threshold)
+                                       threshold) for p in labels), threshold,
+                           dofs=tuple(f"node {n} {d}" for n, d in zip(data.nodes, data.dirs,
+                                                                       strict=True)))
 
 
 def measurement_points(data_path: PathType | None, robot) -> Points:

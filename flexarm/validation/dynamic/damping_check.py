@@ -134,7 +134,8 @@ def _chi2(A: np.ndarray, r: np.ndarray, cols: list[int]) -> tuple[float, np.ndar
 def diagnose_damping(data: ModalData | PathType, robot: Robot | PathType | None = None,
                      sigma_rel: float = 0.05, alpha: float = 0.01, max_effects: int = 2,
                      options: ValidationOptions = DEFAULT_OPTIONS,
-                     max_hz: float | None = None) -> DampingDiagnosis:
+                     max_hz: float | None = None, pose: str | None = None
+                     ) -> DampingDiagnosis:
     """Which joints of ``robot`` miss damping, judged by the damping ratios in ``data``.
 
     Parameters
@@ -155,7 +156,7 @@ def diagnose_damping(data: ModalData | PathType, robot: Robot | PathType | None 
     max_hz : float or None
         Leave out modes above this frequency [Hz] (an identification's band edge).
     """
-    modal, robot, arm, d, zeta = damping_inputs(data, robot, options, max_hz)
+    modal, robot, arm, d, zeta = damping_inputs(data, robot, options, max_hz, pose)
     overlap = modal_overlap(modal.freq_hz, modal.damping_ratio, modal.poses)[d.row]
     sd = sigma_rel * zeta * (1.0 + overlap)
     A = d.E / sd[:, None]

@@ -32,7 +32,7 @@ from ...assembly.system import ArmModel
 from ...fe.plotting import pyplot, save_figure
 from ...fe.typing import PathType
 from ...robot.description import Robot
-from ..data.formats import read_modal
+from ..data.formats import UffOptions, read_modal
 from ..data.measurements import ModalData
 from ..models import DEFAULT_OPTIONS, ValidationOptions, load, validation_models
 from .modal import match_modes
@@ -231,12 +231,16 @@ def robot_with_damping(robot: Robot, ratios, rayleigh: tuple | None = None) -> R
 
 
 def damping_inputs(data: ModalData | PathType, robot: Robot | PathType | None,
-                   options: ValidationOptions = DEFAULT_OPTIONS, max_hz: float | None = None):
-    """``(data, robot, arm, design, zeta)``: the modal data (read if a path), the robot,
+                   options: ValidationOptions = DEFAULT_OPTIONS, max_hz: float | None = None,
+                   pose: str | None = None, response: str | None = None):
+    """``(data, robot, arm, design, zeta)``: the modal data (read if a path: CSV, or a
+    universal file with mode shapes measured at ``pose`` when it carries none), the robot,
     its E-model, the :func:`damping_design` and the measured ratios of its rows; modes
     above ``max_hz`` [Hz] are left out (an identification's band edge)."""
     src = data
-    data = read_modal(data) if not isinstance(data, ModalData) else data
+    robot = load(robot)
+    if not isinstance(data, ModalData):
+        data = read_modal(data, uff=UffOptions.at(robot, pose, response))
     if data.damping_ratio is None:
         raise ValueError(f"{src if not isinstance(src, ModalData) else 'modal data'}: no "
                          f"'damping_ratio' column: nothing to fit")
@@ -248,7 +252,6 @@ def damping_inputs(data: ModalData | PathType, robot: Robot | PathType | None,
     if len(data.freq_hz) < 3:
         raise ValueError(f"{need}, got {len(data.freq_hz)} modes"
                          + ("" if max_hz is None else f" up to {max_hz:g} Hz"))
-    robot = load(robot)
     arm = validation_models(robot, replace(options, flexible=False)).arm
     d = damping_design(arm, data)
     zeta = np.asarray(data.damping_ratio, float)[d.row]
@@ -259,7 +262,7 @@ def damping_inputs(data: ModalData | PathType, robot: Robot | PathType | None,
 
 def fit_damping(data: ModalData | PathType, robot: Robot | PathType | None = None,
                 method: str = "auto", options: ValidationOptions = DEFAULT_OPTIONS,
-                max_hz: float | None = None) -> DampingFit:
+                max_hz: float | None = None, pose: str | None = None) -> DampingFit:
     """Fit joint damping of ``robot``'s E-model to the damping ratios of modal ``data``.
 
     Parameters
@@ -275,6 +278,9 @@ def fit_damping(data: ModalData | PathType, robot: Robot | PathType | None = Non
     max_hz : float or None
         Leave out modes above this frequency [Hz] (e.g. the upper edge of the band the
         modes were identified in, where identified damping is unreliable).
+    pose : str or None
+        The pose a universal file without pose marks was measured at (a pose name or
+        ``q1,...,q6`` [deg]).
 
     Returns
     -------
@@ -283,7 +289,7 @@ def fit_damping(data: ModalData | PathType, robot: Robot | PathType | None = Non
     if method != "auto" and method not in METHODS:
         raise ValueError(f"damping fit method must be auto or one of {', '.join(METHODS)}, "
                          f"got '{method}'")
-    data, robot, arm, d, zeta = damping_inputs(data, robot, options, max_hz)
+    data, robot, arm, d, zeta = damping_inputs(data, robot, options, max_hz, pose)
     prior = np.array([jm.damping_ratio for jm in arm.joints])
     seen = d.E.max(axis=0) >= MIN_SHARE
     fits = _fits(d, zeta, prior, seen)

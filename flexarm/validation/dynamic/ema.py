@@ -29,7 +29,7 @@ import numpy as np
 
 from ...fe.errors import MissingDependencyError
 from ...fe.typing import PathType
-from ..data.formats.uff import UffFrf, read_uff
+from ..data.formats.uff import UffFrf, UffOptions, read_uff
 from ..data.shape_data import ShapeData
 
 __all__ = ["STABLE_FREQ", "STABLE_DAMPING", "CLUSTER", "PoseModes", "EmaResult",
@@ -135,6 +135,10 @@ class PoseModes:
     all_poles: list
 
 
+#: Fewest frequency lines in the band that an identification is tried on.
+MIN_LINES = 20
+
+
 def _band(frf: UffFrf, f_lo, f_hi):
     freq = frf.freq_hz
     lo = float(freq[0] if f_lo is None else f_lo)
@@ -162,6 +166,11 @@ def identify_modes(frf: UffFrf, f_lo: float | None = None, f_hi: float | None = 
         Share of the orders at which a column must be stable to be a mode [-].
     """
     lo, hi = _band(frf, f_lo, f_hi)
+    n_lines = int(np.sum((frf.freq_hz >= lo) & (frf.freq_hz <= hi)))
+    if n_lines < MIN_LINES:
+        raise ValueError(f"pose '{frf.pose}': {n_lines} frequency lines between {lo:g} and "
+                         f"{hi:g} Hz are too few to identify modes (LSCF needs {MIN_LINES}): "
+                         f"measure or export the FRFs with more lines")
     live = np.abs(frf.H).max(axis=1) > 0  # DOFs that never move carry no information
     H, freq = frf.H[live], frf.freq_hz
     model = _sdypy_model(H, freq, lo, hi, int(max_order))
@@ -169,7 +178,8 @@ def identify_modes(frf: UffFrf, f_lo: float | None = None, f_hi: float | None = 
     picked = _columns(stable, len(model.pole_freq), min_stable)
     if not len(picked):
         raise ValueError(f"pose '{frf.pose}': no stable pole between {lo:g} and {hi:g} Hz "
-                         f"up to order {2 * max_order}")
+                         f"up to order {2 * max_order}: give a wider --band or a higher "
+                         f"--max-order, or measure more lines")
     model.pole_ind = picked[:, :2].astype(int)
     model.nat_freq, model.nat_xi = picked[:, 2], picked[:, 3]
     import warnings
@@ -209,12 +219,20 @@ class EmaResult:
     poses: tuple
 
     def modal(self) -> ShapeData:
-        """Frequencies, damping and shapes as measured modal data."""
-        nodes, dirs = self.poses[0].nodes, self.poses[0].dirs
-        for pm in self.poses[1:]:
-            if not (np.array_equal(pm.nodes, nodes) and np.array_equal(pm.dirs, dirs)):
-                raise ValueError(f"pose '{pm.frf.pose}' has other output DOFs than pose "
-                                 f"'{self.poses[0].frf.pose}'")
+        """Frequencies, damping and shapes as measured modal data, on one DOF set for
+        every pose: the union of the poses' channels, a channel that did not move at one
+        pose (exactly zero there, e.g. by the geometry of that pose) holding zeros in its
+        modes."""
+        keys = list(dict.fromkeys(f"{n} {d}" for pm in self.poses
+                                  for n, d in zip(pm.nodes, pm.dirs, strict=True)))
+        nodes = np.array([int(k.split()[0]) for k in keys], np.int64)
+        dirs = np.array([k.split()[1] for k in keys])
+        shapes = []
+        for pm in self.poses:
+            S = np.zeros((len(pm.freq_hz), len(keys)), dtype=pm.shapes.dtype)
+            S[:, [keys.index(f"{n} {d}") for n, d in zip(pm.nodes, pm.dirs, strict=True)]] = \
+                pm.shapes
+            shapes.append(S)
         k = [len(pm.freq_hz) for pm in self.poses]
         return ShapeData(poses=np.repeat([pm.frf.pose for pm in self.poses], k),
                          q=np.concatenate([np.tile(pm.frf.q, (n, 1))
@@ -222,8 +240,7 @@ class EmaResult:
                          modes=np.concatenate([np.arange(1, n + 1) for n in k]),
                          freq_hz=np.concatenate([pm.freq_hz for pm in self.poses]),
                          damping_ratio=np.concatenate([pm.damping for pm in self.poses]),
-                         nodes=nodes, dirs=dirs,
-                         shapes=np.concatenate([pm.shapes for pm in self.poses]))
+                         nodes=nodes, dirs=dirs, shapes=np.concatenate(shapes))
 
     def text(self) -> str:
         """Modes per pose (frequency, damping ratio) and the FRF fit's error."""
@@ -250,10 +267,17 @@ class EmaResult:
 
 
 def run_ema(path: PathType | list, f_lo: float | None = None, f_hi: float | None = None,
-            max_order: int = 40, min_stable: float = 0.25) -> EmaResult:
+            max_order: int = 40, min_stable: float = 0.25,
+            uff: UffOptions | None = None) -> EmaResult:
     """Identify modes from the 58 FRFs of a universal file (or a list of
-    :class:`UffFrf`), pose by pose (:func:`identify_modes`)."""
-    frfs = list(path) if isinstance(path, list | tuple) else list(read_uff(path).frfs)
+    :class:`UffFrf`), pose by pose (:func:`identify_modes`); ``uff`` says what the file
+    does not (the pose it was measured at, what its ordinates are)."""
+    if isinstance(path, list | tuple):
+        frfs = list(path)
+    else:
+        uff = uff or UffOptions()
+        label, q = uff.pose if uff.pose is not None else (None, None)
+        frfs = list(read_uff(path, label, q, uff.response).frfs)
     if not frfs:
         raise ValueError(f"{path}: no FRFs (58 datasets) to identify modes from")
     return EmaResult(tuple(identify_modes(f, f_lo, f_hi, max_order, min_stable)

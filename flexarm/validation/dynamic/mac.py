@@ -7,8 +7,9 @@
   cannot tell those modes apart (the point set is insufficient).
 - Pairing: one-to-one, maximising the summed MAC, with the frequency difference as a
   tie-break (cost ``-MAC + TIE_WEIGHT |f_model - f_meas| / f_meas``, solved by
-  ``scipy.optimize.linear_sum_assignment``); a measured mode whose partner has
-  ``MAC < threshold`` is reported as unpaired, not forced onto a model mode.
+  ``scipy.optimize.linear_sum_assignment``), inside a frequency window; a measured mode
+  whose partner has ``MAC < threshold`` is reported as unpaired, not forced onto a model
+  mode.
 - CoMAC per point over the paired modes (Lieven & Ewins), after scaling each model
   shape onto its measured partner (modal scale factor): near 1 where model and test
   move alike, low where the model is wrong.
@@ -23,11 +24,15 @@ from scipy.optimize import linear_sum_assignment
 
 from ...fe.typing import ArrayLike, FloatArray
 
-__all__ = ["MAC_THRESHOLD", "TIE_WEIGHT", "mac", "automac", "ModePairing", "pair_modes",
-           "comac", "plot_mac"]
+__all__ = ["MAC_THRESHOLD", "TIE_WEIGHT", "FREQ_RATIO", "mac", "automac", "ModePairing",
+           "pair_modes", "comac", "moving_points", "reversed_channels", "real_shapes", "plot_mac"]
 
 #: A pair needs at least this MAC [-]; below it the measured mode stays unpaired.
 MAC_THRESHOLD = 0.8
+#: Largest frequency ratio of a MAC pair [-]: a model whose joint is at a quarter of the
+#: modelled stiffness puts that joint's mode at half the frequency, which MAC must still
+#: pair; a tenfold ratio is another mode whatever its shape.
+FREQ_RATIO = 2.0
 #: Weight of the relative frequency difference in the pairing cost [-]: 10 % in
 #: frequency weighs as 0.01 in MAC, so frequency only decides between near-equal MACs.
 TIE_WEIGHT = 0.1
@@ -86,8 +91,12 @@ class ModePairing:
 
 
 def pair_modes(M: ArrayLike, f_meas: ArrayLike, f_model: ArrayLike,
-               threshold: float = MAC_THRESHOLD, tie_weight: float = TIE_WEIGHT) -> ModePairing:
+               threshold: float = MAC_THRESHOLD, tie_weight: float = TIE_WEIGHT,
+               ratio: float = FREQ_RATIO) -> ModePairing:
     """Pair measured modes (rows of the MAC matrix ``M``) with model modes (columns).
+
+    A pair needs ``MAC >= threshold`` and frequencies within a factor ``ratio`` of each
+    other: shapes alike at a tenfold frequency are not the same mode.
 
     Examples
     --------
@@ -100,13 +109,15 @@ def pair_modes(M: ArrayLike, f_meas: ArrayLike, f_model: ArrayLike,
     """
     M = np.asarray(M, float)
     fa, fb = np.asarray(f_meas, float), np.asarray(f_model, float)
-    cost = -M + tie_weight * np.abs(fb[None, :] - fa[:, None]) / fa[:, None]
+    rel = np.abs(fb[None, :] - fa[:, None]) / fa[:, None]
+    far = np.maximum(fb[None, :] / fa[:, None], fa[:, None] / fb[None, :]) > ratio
+    cost = -np.where(far, 0.0, M) + tie_weight * np.minimum(rel, 10.0) + 10.0 * far
     rows, cols = linear_sum_assignment(cost)
     model = np.full(len(fa), -1)
     best = np.zeros(len(fa))
-    model[rows], best[rows] = cols, M[rows, cols]
+    model[rows], best[rows] = cols, np.where(far[rows, cols], 0.0, M[rows, cols])
     lonely = np.setdiff1d(np.arange(len(fa)), rows)  # more measured than model modes
-    best[lonely] = M[lonely].max(axis=1) if M.shape[1] else 0.0
+    best[lonely] = np.where(far[lonely], 0.0, M[lonely]).max(axis=1) if M.shape[1] else 0.0
     model[best < threshold] = -1
     return ModePairing(model, best, threshold)
 
@@ -143,6 +154,73 @@ def comac(A: ArrayLike, B: ArrayLike, groups: ArrayLike | None = None) -> FloatA
         num = np.bincount(inv, num, len(labels))
         aa, bb = np.bincount(inv, aa, len(labels)), np.bincount(inv, bb, len(labels))
     return num**2 / np.maximum(aa * bb, np.finfo(float).tiny)
+
+
+def moving_points(A: ArrayLike, groups: ArrayLike, share: float = 0.1) -> np.ndarray:
+    """(k,) bool per point (group of DOFs, in order of first appearance): whether it moves
+    at least ``share`` of the most-moving point (RMS over the modes ``A`` (n, m) after
+    scaling each mode to unit peak).  A point that barely moves has a CoMAC of noise.
+
+    Examples
+    --------
+    >>> moving_points([[1.0, 0.5, 0.01]], [1, 2, 3]).tolist()
+    [True, True, False]
+    """
+    A = np.atleast_2d(np.abs(np.asarray(A)))
+    A = A / np.maximum(A.max(axis=1, keepdims=True), np.finfo(float).tiny)
+    labels, first, inv = np.unique(np.asarray(groups), return_index=True, return_inverse=True)
+    order = np.argsort(first)
+    inv = np.argsort(order)[inv.ravel()]
+    rms = np.sqrt(np.bincount(inv, (A**2).sum(axis=0), len(labels)))
+    return rms >= share * rms.max()
+
+
+def reversed_channels(A: ArrayLike, B: ArrayLike, min_gain: float = 0.05) -> list:
+    """Channels (columns of the paired shapes ``A`` measured, ``B`` model, both (n, m))
+    whose sign flip raises the mean MAC of the pairs by at least ``min_gain``, found one
+    at a time (each flip judged with the ones before made), with the mean MAC before and
+    after: ``[(column, mac_before, mac_after), ...]``.  A sensor mounted the wrong way
+    round, or a direction entered with the wrong sign.
+
+    Examples
+    --------
+    >>> B = np.array([[1.0, 2.0, 1.0], [1.0, -1.0, 2.0]])
+    >>> A = B * [1.0, -1.0, 1.0]  # channel 1 reversed
+    >>> [(c, round(a, 2), round(b, 2)) for c, a, b in reversed_channels(A, B)]
+    [(1, 0.28, 1.0)]
+    """
+    A, B = np.atleast_2d(np.array(A)), np.atleast_2d(B)
+    out = []
+    while len(A) and len(out) < A.shape[1]:
+        base = float(np.mean(np.diag(mac(A, B))))
+        gains = []
+        for i in range(A.shape[1]):
+            A[:, i] = -A[:, i]
+            gains.append(float(np.mean(np.diag(mac(A, B)))))
+            A[:, i] = -A[:, i]
+        i = int(np.argmax(gains))
+        if gains[i] - base < min_gain:
+            break
+        out.append((i, base, gains[i]))
+        A[:, i] = -A[:, i]  # greedy: the next flip is judged with this one made
+    return out
+
+
+def real_shapes(A: ArrayLike) -> FloatArray:
+    """(n, m) real shapes: each row of ``A`` turned by the phase that makes it as real
+    as possible (the principal axis of its entries in the complex plane), then its real
+    part; real input comes back unchanged.
+
+    Examples
+    --------
+    >>> real_shapes([[1j, -2j, 0.5j]]).round(6).tolist()
+    [[1.0, -2.0, 0.5]]
+    """
+    A = np.atleast_2d(np.asarray(A))
+    if not np.iscomplexobj(A):
+        return A.astype(float)
+    theta = 0.5 * np.angle(np.sum(A * A, axis=1))
+    return (A * np.exp(-1j * theta)[:, None]).real
 
 
 def plot_mac(path, M: ArrayLike, f_rows: ArrayLike, f_cols: ArrayLike, title: str,

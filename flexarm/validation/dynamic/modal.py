@@ -6,10 +6,12 @@ and two close modes may be listed in the other order (or the model's two modes m
 places as the fit changes a stiffness).  :func:`match_modes` assigns, per pose, the
 measured frequencies to distinct model modes by minimising the sum of squared relative
 differences ``((f_model - f_meas) / f_meas)^2`` (``scipy.optimize.linear_sum_assignment``),
-which is the frequencies' chi-square: the assignment is the most likely one, and the
-modal chi-square stays continuous when modes cross.  A measured mode with no model mode
-within a factor ``1 + MATCH_WINDOW`` of it (in the starting model) is *unmatched*: it is
-reported and left out of the diagnosis.  The noise is relative,
+which is the frequencies' chi-square: the assignment is the most likely one.  That is
+how ``compare`` tabulates them (a measured mode with no model mode within a factor
+``1 + MATCH_WINDOW`` is reported *unmatched*).  Inside a diagnosis,
+:class:`ModalProblem` pairs them afresh in every model it evaluates, inside a window and
+with a fixed cost for a mode left without a partner
+(:mod:`~flexarm.validation.dynamic.pairing`): no measured mode is dropped.  The noise is relative,
 ``sd = freq_noise * f_k`` (0.5 % by default, ``tol.freq_noise``), independent between
 modes and poses.  :class:`ModalProblem` appends these whitened residuals to the static
 GLS residuals of :class:`~flexarm.validation.static.fit.Problem`, so every fit, score test and
@@ -31,18 +33,15 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from ...assembly.analyses import natural_frequencies
-from ...assembly.effects import apply_effects
-from ...assembly.linkflex import links_arm, split_links
+from ...assembly.effects import at_pose
 from ...assembly.system import ArmModel
-from ...robot.effects import Effect
-from ..data.measurements import DIRECTIONS, ModalData, StaticData
-from ..data.shape_data import Points, ShapeData
+from ..data.measurements import ModalData, StaticData
 from ..static.fit import Problem
 from ..tolerances import tol
+from .pairing import lonely_lines, pair_in_window
 
 __all__ = ["ModalProblem", "ModeMatch", "MATCH_WINDOW", "match_modes", "match_frequencies",
-           "model_frequencies", "static_start", "virtual_modal", "virtual_shapes",
-           "virtual_frfs"]
+           "model_frequencies", "static_start"]
 
 log = logging.getLogger(__name__)
 
@@ -193,6 +192,15 @@ def static_start(static: Problem) -> list:
 class ModalProblem(Problem):
     """A static :class:`Problem` plus measured natural frequencies.
 
+    Every evaluation of a model pairs the measured modes with its modes afresh, pose by
+    pose, inside a frequency window (:mod:`~flexarm.validation.dynamic.pairing`): a
+    measured mode without a partner in that model stays in the data at a fixed cost
+    (residual ``C = window / freq_noise``), so the observations never change in number and a
+    model that creates the missing mode is rewarded.  That fixed cost counts in the
+    chi-square a search compares (:attr:`FitResult.chi2`) but not in chi^2_red
+    (:meth:`penalty`), so a measured mode that no model explains (a fixture resonance, a
+    spurious pole) does not inflate the static fit's intervals; the diagnosis names it.
+
     Parameters
     ----------
     arm, data, sigma, noise_model, flexible
@@ -201,37 +209,84 @@ class ModalProblem(Problem):
         Measured frequencies (one row per pose and mode).
     freq_noise : float
         Relative standard uncertainty of a frequency [-].
+    window : float
+        Largest relative frequency difference of a pair [-] (``tol.pair_window``).
     """
 
     def __init__(self, arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
                  noise_model: str = "shared", flexible: ArmModel | None = None,
-                 modal: ModalData | None = None, freq_noise: float = tol.freq_noise):
+                 modal: ModalData | None = None, freq_noise: float = tol.freq_noise,
+                 window: float = tol.pair_window):
         super().__init__(arm, data, sigma, noise_model, flexible)
         if modal is None:
             raise ValueError("ModalProblem needs modal data")
         if not freq_noise > 0:
             raise ValueError(f"freq_noise must be > 0, got {freq_noise}")
-        self.modal, self.freq_noise = modal, float(freq_noise)
-        self.start_effects = static_start(Problem(arm, data, sigma, noise_model, flexible))
-        # measured modes without a model mode within the window (against the starting
-        # model) are reported and left out, so the number of observations stays fixed
-        match = self.initial_match(arm, modal)
-        self.modal_keep = match.matched
-        self.unmatched = tuple(match.unmatched(modal))
-        if self.unmatched:
-            log.warning("%d measured mode(s) left out, not matched to the model: %s",
-                        len(self.unmatched), "; ".join(self.unmatched))
-        self.f_meas = np.asarray(modal.freq_hz, float)[self.modal_keep]
+        if not 0 < window < 1:
+            raise ValueError(f"the pairing window must lie in (0, 1), got {window}")
+        self.modal, self.freq_noise, self.window = modal, float(freq_noise), float(window)
+        self.f_meas = np.asarray(modal.freq_hz, float)
         self.f_sd = self.freq_noise * self.f_meas
+        self.modal_keep = np.ones(len(self.f_meas), bool)
+        n = arm.chain.n_joints
+        self.modal_uq, inv = np.unique(np.asarray(modal.q, float)[:, :n], axis=0,
+                                       return_inverse=True)
+        self.modal_pose = inv.ravel()
+        self._pairings: dict = {}
+        self._batch = (None, None)
+        self.start_effects = static_start(Problem(arm, data, sigma, noise_model, flexible))
+        self.unmatched = tuple(self.lonely_lines(self.start_effects))
+        if self.unmatched:
+            log.info("%d measured mode(s) without a partner in the starting model: %s",
+                     len(self.unmatched), "; ".join(self.unmatched))
 
-    def initial_match(self, arm: ArmModel, modal: ModalData):
-        """The measured modes' partners in the starting model (frequency only here:
-        :func:`match_frequencies`); a subclass pairs them otherwise."""
-        return match_frequencies(arm, modal)
+    # ----- pairing
+    def pose_terms(self, arm: ArmModel, p: int, r: np.ndarray) -> dict:
+        """What pairing needs at unique pose ``p`` (measured rows ``r``) of ``arm`` (the
+        model at that pose, :func:`~flexarm.assembly.effects.at_pose`): the model's
+        frequencies ``f`` [Hz]; a subclass with shapes adds ``shape_cost``,
+        ``lonely_shape_cost``, ``mac`` and the model ``shapes``."""
+        if self._batch[0] is not arm:  # the same arm at every pose: one batched solve
+            self._batch = (arm, np.atleast_2d(natural_frequencies(arm, self.modal_uq)))
+        return {"f": self._batch[1][p]}
+
+    def pairing(self, effects) -> dict:
+        """The measured modes paired with the modes of the model with ``effects``:
+        per row ``model_hz`` (NaN if none), ``model_mode`` (1-based, 0 if none),
+        ``paired``, ``cost`` (its chi-square share) and the terms of
+        :meth:`pose_terms` per pose (cached for the last few models)."""
+        key = tuple(effects)
+        if key in self._pairings:
+            return self._pairings[key]
+        arm, _ = self.model(effects)
+        self._batch = (None, None)
+        m = len(self.f_meas)
+        hz, mode = np.full(m, np.nan), np.zeros(m, int)
+        paired, cost = np.zeros(m, bool), np.zeros(m)
+        terms = {}
+        for p in np.unique(self.modal_pose):
+            r = np.flatnonzero(self.modal_pose == p)
+            tp = terms[p] = self.pose_terms(at_pose(arm, effects, self.modal_uq[p]), p, r)
+            pr = pair_in_window(self.f_meas[r], tp["f"], self.window, self.freq_noise,
+                                tp.get("shape_cost"), tp.get("lonely_shape_cost"),
+                                tp.get("mac"), tp.get("mac_threshold", 0.0))
+            k = pr.model
+            hz[r] = np.where(k >= 0, tp["f"][np.maximum(k, 0)], np.nan)
+            mode[r], paired[r], cost[r] = np.where(k >= 0, k + 1, 0), k >= 0, pr.cost
+        out = {"model_hz": hz, "model_mode": mode, "paired": paired, "cost": cost,
+               "terms": terms}
+        if len(self._pairings) > 8:
+            self._pairings.clear()
+        self._pairings[key] = out
+        return out
+
+    def lonely_lines(self, effects) -> list[str]:
+        """One line per measured mode without a partner in the model with ``effects``."""
+        return lonely_lines(self.modal.poses, self.f_meas, self.pairing(effects)["paired"])
 
     @property
     def n_modal(self) -> int:
-        """Number of measured frequencies in the fit (the matched ones)."""
+        """Number of measured frequencies in the fit (all of them)."""
         return len(self.f_sd)
 
     @property
@@ -239,12 +294,11 @@ class ModalProblem(Problem):
         return super().n_obs + self.n_modal
 
     def frequencies(self, effects) -> np.ndarray:
-        """(n_modal,) model frequencies [Hz] with ``effects``, assigned to the kept measured
-        modes afresh for this model (no window: the assignment that minimises the modal
-        chi-square, so it is continuous when two model modes cross)."""
-        arm, _ = self.model(effects)
-        keep = self.modal_keep
-        return match_frequencies(arm, self.modal, None, keep).model_hz[keep]
+        """(n_modal,) model frequency [Hz] of each measured mode's partner; a mode without
+        one gets ``f_meas - C sd``, so its residual is the fixed ``C``."""
+        pr = self.pairing(effects)
+        lonely = self.f_meas - self.window / self.freq_noise * self.f_sd
+        return np.where(pr["paired"], pr["model_hz"], lonely)
 
     def wpredict(self, effects, rows: np.ndarray | None = None) -> np.ndarray:
         return np.r_[super().wpredict(effects, rows), self.frequencies(effects) / self.f_sd]
@@ -255,112 +309,18 @@ class ModalProblem(Problem):
     def n_obs_rows(self, rows: np.ndarray | None = None) -> int:
         return super().n_obs_rows(rows) + self.n_modal
 
+    def observations_per_mode(self) -> int:
+        """Observations one measured mode adds (its frequency)."""
+        return 1
+
+    def penalty(self, effects) -> tuple[float, int]:
+        """(chi-square, observations) of the measured modes without a partner in the model
+        with ``effects``: their fixed cost, left out of chi^2_red."""
+        pr = self.pairing(effects)
+        lonely = ~pr["paired"]
+        return float(pr["cost"][lonely].sum()), int(lonely.sum()) * self.observations_per_mode()
+
     def modal_chi2(self, effects) -> float:
-        """chi^2 of the frequencies alone."""
+        """chi^2 of the frequencies alone (fixed cost of unpaired modes included)."""
         r = (self.f_meas - self.frequencies(effects)) / self.f_sd
         return float(r @ r)
-
-
-def virtual_modal(arm: ArmModel, poses: dict, effects: list[Effect] = (), n_modes: int = 4,
-                  freq_noise: float = tol.freq_noise, seed: int = 0,
-                  flexible: ArmModel | None = None) -> ModalData:
-    """Measured-like natural frequencies of ``arm`` with ``effects`` (relative noise).
-
-    Nonlinear joint laws do not enter (small-amplitude modal tests about the pose).
-
-    Examples
-    --------
-    >>> from flexarm.assembly.examples import two_link_arm
-    >>> arm = two_link_arm()
-    >>> q = np.zeros(arm.chain.n_joints)
-    >>> virtual_modal(arm, {"A": q}, n_modes=2, freq_noise=0.0).freq_hz.shape
-    (2,)
-    """
-    c, rest = split_links(effects)
-    truth, _ = apply_effects(links_arm(arm, flexible, c), rest)
-    names = list(poses)
-    Q = np.array([np.asarray(poses[p], float) for p in names])
-    F = np.atleast_2d(natural_frequencies(truth, Q))[:, :n_modes]
-    rng = np.random.default_rng(seed)
-    F = F * (1 + freq_noise * rng.standard_normal(F.shape))
-    n = F.shape[1]
-    q6 = np.zeros((len(names), 6))
-    q6[:, :Q.shape[1]] = Q
-    log.info("virtual modal lab: %d poses x %d modes", len(names), n)
-    return ModalData(poses=np.repeat(names, n), q=np.repeat(q6, n, axis=0),
-                     modes=np.tile(np.arange(1, n + 1), len(names)), freq_hz=F.ravel())
-
-
-def _truth(arm: ArmModel, effects, flexible: ArmModel | None) -> ArmModel:
-    c, rest = split_links(effects)
-    return apply_effects(links_arm(arm, flexible, c), rest)[0]
-
-
-def virtual_shapes(arm: ArmModel, poses: dict, points: Points, effects: list[Effect] = (),
-                   n_modes: int = 6, freq_noise: float = tol.freq_noise,
-                   shape_noise: float = 0.0, seed: int = 0, flexible: ArmModel | None = None,
-                   builds=None) -> ShapeData:
-    """Measured-like frequencies, damping ratios and mode shapes at every point (x, y,
-    z) of ``arm`` with ``effects``: relative frequency noise, and shape noise
-    ``shape_noise`` times each shape's largest entry (independent per DOF).
-
-    Examples
-    --------
-    >>> from flexarm.assembly.examples import two_link_arm
-    >>> pts = Points(nodes=[1, 2], links=[1, 2], positions=[[0.5, 0, 0], [1.0, 0, 0]])
-    >>> s = virtual_shapes(two_link_arm(), {"A": np.zeros(2)}, pts, n_modes=2)
-    >>> s.shapes.shape, s.dofs[:2]
-    ((2, 6), ['1x', '1y'])
-    """
-    from .shapes import model_shape_data
-
-    data = model_shape_data(_truth(arm, effects, flexible), poses, points, n_modes, builds)
-    rng = np.random.default_rng(seed)
-    f = data.freq_hz * (1 + freq_noise * rng.standard_normal(data.freq_hz.shape))
-    peak = np.abs(data.shapes).max(axis=1, keepdims=True)
-    phi = data.shapes + shape_noise * peak * rng.standard_normal(data.shapes.shape)
-    log.info("virtual modal lab: %d poses x %d modes at %d DOFs", len(poses),
-             len(data.freq_hz) // max(len(poses), 1), data.n_dofs)
-    return ShapeData(poses=data.poses, q=data.q, modes=data.modes, freq_hz=f,
-                     damping_ratio=data.damping_ratio, nodes=data.nodes, dirs=data.dirs,
-                     shapes=phi)
-
-
-def virtual_frfs(arm: ArmModel, poses: dict, points: Points, inputs, freq_hz,
-                 effects: list[Effect] = (), noise: float = 0.02, seed: int = 0,
-                 flexible: ArmModel | None = None, builds=None) -> list:
-    """Measured-like receptances [m/N] at every point (x, y, z) per force at the
-    ``inputs`` DOFs (``[(node, "y"), ...]``), one
-    :class:`~flexarm.validation.data.formats.uff.UffFrf` per pose.
-
-    Modal superposition over all modes with the model's modal damping; ``noise`` is a
-    relative complex Gaussian error per frequency line, ``noise |H|`` (an averaged
-    H1 estimate's scatter).
-    """
-    from ..data.formats.uff import UffFrf
-    from .shapes import model_shapes
-
-    truth = _truth(arm, effects, flexible)
-    rng = np.random.default_rng(seed)
-    out_nodes = np.repeat(points.nodes, 3)
-    out_dirs = np.tile(list(DIRECTIONS), points.n_points)
-    in_nodes = np.array([int(n) for n, _ in inputs])
-    in_dirs = np.array([str(d) for _, d in inputs])
-    w = 2 * np.pi * np.asarray(freq_hz, float)
-    frfs = []
-    for label, q in poses.items():
-        f, zeta, phi = model_shapes(truth, q, points, np.r_[out_nodes, in_nodes],
-                                    np.r_[out_dirs, in_dirs], None, builds)
-        wr = 2 * np.pi * f
-        den = wr[None, :] ** 2 - w[:, None] ** 2 + 2j * zeta * wr[None, :] * w[:, None]
-        po, pi = phi[:, :len(out_nodes)], phi[:, len(out_nodes):]
-        H = np.einsum("ro,fr,ri->oif", po, 1.0 / den, pi)  # (n_out, n_in, nf)
-        H = H * (1 + noise / np.sqrt(2) * (rng.standard_normal(H.shape)
-                                           + 1j * rng.standard_normal(H.shape)))
-        q6 = np.zeros(6)
-        q6[:len(q)] = q
-        frfs.append(UffFrf(label, q6, np.asarray(freq_hz, float),
-                           np.repeat(out_nodes, len(in_nodes)), np.repeat(out_dirs, len(in_nodes)),
-                           np.tile(in_nodes, len(out_nodes)), np.tile(in_dirs, len(out_nodes)),
-                           H.reshape(-1, len(w))))
-    return frfs

@@ -21,7 +21,7 @@ from ...assembly.system import ArmModel
 from ...fe.text import text_table
 from ...fe.typing import ArrayLike, FloatArray, PathType
 from ...robot.description import Robot
-from ..data.formats import read_modal
+from ..data.formats import UffOptions, read_modal
 from ..data.measurements import ModalData
 from ..models import DEFAULT_OPTIONS, load, validation_models
 from .modal import match_modes
@@ -95,7 +95,7 @@ class PoseDamping:
 
 
 def store_modal_damping(data: ModalData | PathType, robot: Robot | PathType | None = None,
-                        max_hz: float | None = None) -> PoseDamping:
+                        max_hz: float | None = None, pose: str | None = None) -> PoseDamping:
     """``robot`` with the damping ratios identified in ``data`` stored per pose.
 
     A data pose whose name is not among the robot's poses is added with the data's joint
@@ -103,10 +103,11 @@ def store_modal_damping(data: ModalData | PathType, robot: Robot | PathType | No
     (NaN or <= 0) and modes above ``max_hz`` [Hz] are left out.
     """
     src = data if not isinstance(data, ModalData) else "modal data"
-    data = read_modal(data) if not isinstance(data, ModalData) else data
+    robot = load(robot)
+    if not isinstance(data, ModalData):  # a universal file without pose marks: at ``pose``
+        data = read_modal(data, uff=UffOptions.at(robot, pose))
     if data.damping_ratio is None:
         raise ValueError(f"{src}: no 'damping_ratio' column: nothing to store")
-    robot = load(robot)
     n = len(robot.joints)
     zeta = np.asarray(data.damping_ratio, float)
     f = np.asarray(data.freq_hz, float)

@@ -1,21 +1,25 @@
-"""Mode shapes in the diagnosis: pairing by MAC and a shape residual in every fit.
+"""Mode shapes in the diagnosis: pairing by MAC and frequency, and a shape residual in
+every fit.
 
 When the modal data carry shapes at measurement points
 (:class:`~flexarm.validation.data.shape_data.ShapeData`), :class:`ShapeProblem` pairs each
-measured mode with a model mode by MAC, frequency only breaking ties
-(:func:`~flexarm.validation.dynamic.mac.pair_modes`, the pairing ``compare`` uses), instead of
-by frequency alone: two close modes whose order the model gets wrong are then compared
-with the model modes of their own shapes.  A measured mode without a partner at
-``MAC >= MAC_THRESHOLD`` in the starting model is reported and left out.
+measured mode with a model mode of the model being evaluated, as
+:mod:`~flexarm.validation.dynamic.pairing` does for frequencies, with two more terms: a pair
+needs ``MAC >= MAC_THRESHOLD`` as well as the frequency window, and its cost adds the
+shape chi-square, so two close modes whose order the model gets wrong are compared with
+the model modes of their own shapes.  A measured mode without a partner stays in the data
+at a fixed cost and is named with words for its shape (``the whole arm rocks about base
+x``).
 
-Each paired mode adds a shape residual to the frequency residual of
+Each mode adds a shape residual to the frequency residual of
 :class:`~flexarm.validation.dynamic.modal.ModalProblem`: the measured shape ``a`` (m DOFs,
-complex shapes turned real by removing their best phase) minus the model shape ``b``
-scaled onto it (modal scale factor ``s = b.a / b.b``), per DOF, divided by the stated
-shape noise ``shape_noise * max|a|`` (the scatter of one DOF, as a fraction of the
-shape's largest entry).  Its square sum is ``|a|^2 (1 - MAC) / sigma^2``, so it is
-``1 - MAC`` weighted by the noise, but smooth in the model parameters.  The fitted scale
-uses one degree of freedom per mode: a mode adds ``m - 1`` observations.
+complex shapes turned real by removing their best phase) minus the partner's shape ``b``
+scaled onto it (modal scale factor ``s = b.a / b.b``; a zero shape without a partner), per
+DOF, divided by the stated shape noise ``shape_noise * max|a|`` (the scatter of one DOF,
+as a fraction of the shape's largest entry).  Its square sum is
+``|a|^2 (1 - MAC) / sigma^2``, so it is ``1 - MAC`` weighted by the noise, but smooth in
+the model parameters.  The fitted scale uses one degree of freedom per mode: a mode adds
+``m - 1`` observations.
 """
 
 from __future__ import annotations
@@ -26,12 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...assembly.system import ArmModel
-from ...fe.typing import ArrayLike, FloatArray
 from ..data.shape_data import Points, ShapeData
 from ..static.fit import Problem
 from ..tolerances import tol
-from .mac import MAC_THRESHOLD, mac, pair_modes
+from .mac import MAC_THRESHOLD, mac, pair_modes, real_shapes, reversed_channels
 from .modal import ModalProblem
+from .pairing import describe_shape, lonely_lines
 from .shapes import model_shapes
 
 __all__ = ["SHAPE_NOISE", "ShapeMatch", "ShapeProblem", "real_shapes", "pair_by_shape"]
@@ -42,23 +46,6 @@ log = logging.getLogger(__name__)
 SHAPE_NOISE = 0.02
 #: Model modes computed beyond the measured count of a pose, so a pairing can skip some.
 _EXTRA_MODES = 4
-
-
-def real_shapes(A: ArrayLike) -> FloatArray:
-    """(n, m) real shapes: each row of ``A`` turned by the phase that makes it as real
-    as possible (the principal axis of its entries in the complex plane), then its real
-    part; real input comes back unchanged.
-
-    Examples
-    --------
-    >>> real_shapes([[1j, -2j, 0.5j]]).round(6).tolist()
-    [[1.0, -2.0, 0.5]]
-    """
-    A = np.atleast_2d(np.asarray(A))
-    if not np.iscomplexobj(A):
-        return A.astype(float)
-    theta = 0.5 * np.angle(np.sum(A * A, axis=1))
-    return (A * np.exp(-1j * theta)[:, None]).real
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,7 +110,9 @@ def pair_by_shape(arm: ArmModel, data: ShapeData, points: Points, builds=None,
 
 class ShapeProblem(ModalProblem):
     """A :class:`~flexarm.validation.dynamic.modal.ModalProblem` whose modes carry shapes:
-    pairing by MAC and a shape residual per paired mode (module docstring).
+    a pair needs ``MAC >= mac_threshold`` as well as the frequency window, costs the shape
+    chi-square on top of the frequency's, and a mode without a partner costs the shape
+    chi-square of a zero shape (module docstring; :mod:`~.pairing`).
 
     Parameters
     ----------
@@ -137,34 +126,42 @@ class ShapeProblem(ModalProblem):
         Scatter of one shape entry as a fraction of the shape's largest entry [-].
     builds : tuple of LinkBuild, optional
         Recovery of flexible bodies (needed once link flexibility enters the model).
+    mac_threshold : float
+        The MAC a pair needs [-].
     """
 
     def __init__(self, arm: ArmModel, data, sigma: float = tol.tracker_sigma,
                  noise_model: str = "shared", flexible: ArmModel | None = None,
                  modal: ShapeData | None = None, freq_noise: float = tol.freq_noise,
                  points: Points | None = None, shape_noise: float = SHAPE_NOISE,
-                 builds=None):
+                 builds=None, mac_threshold: float = MAC_THRESHOLD):
         if not isinstance(modal, ShapeData) or points is None:
             raise ValueError("ShapeProblem needs modal data with shapes and their points")
         if not shape_noise > 0:
             raise ValueError(f"shape_noise must be > 0, got {shape_noise}")
         self.points, self.builds, self.shape_noise = points, builds, float(shape_noise)
-        super().__init__(arm, data, sigma, noise_model, flexible, modal, freq_noise)
-        A = real_shapes(modal.shapes)[self.modal_keep]
+        self.mac_threshold = float(mac_threshold)
+        A = real_shapes(modal.shapes)
         self.a_sd = self.shape_noise * np.abs(A).max(axis=1)
         self.a_w = A / self.a_sd[:, None]
+        super().__init__(arm, data, sigma, noise_model, flexible, modal, freq_noise)
 
-    def initial_match(self, arm: ArmModel, modal) -> ShapeMatch:
-        """Pairs by MAC in the baseline fitted to the static data alone
-        (:attr:`start_effects`, :func:`~.modal.static_start`): shapes of close modes mix
-        as the joint stiffnesses move, so the nominal model would leave out modes the
-        fitted one pairs."""
-        return pair_by_shape(self.model(self.start_effects)[0], modal, self.points,
-                             self.builds)
+    def pose_terms(self, arm: ArmModel, p: int, r: np.ndarray) -> dict:
+        n = arm.chain.n_joints
+        f, _, phi = model_shapes(arm, self.modal.q[r[0], :n], self.points, self.modal.nodes,
+                                 self.modal.dirs, len(r) + _EXTRA_MODES, self.builds)
+        B = phi / self.a_sd[r, None, None]  # (m, N, dofs): each model shape, whitened per row
+        a = self.a_w[r]
+        aa = np.einsum("ij,ij->i", a, a)
+        ab = np.einsum("ij,ikj->ik", a, B)
+        bb = np.maximum(np.einsum("ikj,ikj->ik", B, B), np.finfo(float).tiny)
+        M = ab**2 / np.maximum(aa[:, None] * bb, np.finfo(float).tiny)
+        return {"f": f, "shape_cost": aa[:, None] - ab**2 / bb, "lonely_shape_cost": aa,
+                "mac": M, "mac_threshold": self.mac_threshold, "shapes": phi}
 
     @property
     def n_shape_obs(self) -> int:
-        """Shape observations: ``m - 1`` per paired mode (the scale is fitted)."""
+        """Shape observations: ``m - 1`` per measured mode (the scale is fitted)."""
         return int(self.a_w.size - len(self.a_w))
 
     @property
@@ -174,20 +171,24 @@ class ShapeProblem(ModalProblem):
     def n_obs_rows(self, rows: np.ndarray | None = None) -> int:
         return super().n_obs_rows(rows) + self.n_shape_obs
 
-    def modal_prediction(self, effects) -> tuple[np.ndarray, np.ndarray]:
-        """(n_modal,) model frequencies [Hz] of the paired modes and (n_modal, m) their
-        whitened shapes scaled onto the measured ones, pairing afresh by MAC for this
-        model (no threshold, so the prediction stays continuous)."""
-        arm, _ = self.model(effects)
-        keep = self.modal_keep
-        match = pair_by_shape(arm, self.modal, self.points, self.builds, keep, 0.0)
-        B = match.shapes[keep] / self.a_sd[:, None]
-        s = np.einsum("ij,ij->i", B, self.a_w) / np.maximum(np.einsum("ij,ij->i", B, B),
-                                                            np.finfo(float).tiny)
-        return match.model_hz[keep], B * s[:, None]
+    def observations_per_mode(self) -> int:
+        return self.a_w.shape[1]
 
-    def frequencies(self, effects) -> np.ndarray:
-        return self.modal_prediction(effects)[0]
+    def modal_prediction(self, effects) -> tuple[np.ndarray, np.ndarray]:
+        """(n_modal,) model frequencies [Hz] of each measured mode's partner and
+        (n_modal, m) its whitened shape scaled onto the measured one; a mode without a
+        partner gets the frequency of the fixed cost and a zero shape."""
+        pr = self.pairing(effects)
+        S = np.zeros(self.a_w.shape)
+        for p, tp in pr["terms"].items():
+            r = np.flatnonzero(self.modal_pose == p)
+            k = pr["model_mode"][r] - 1
+            ok = k >= 0
+            B = tp["shapes"][np.maximum(k, 0)] / self.a_sd[r, None]
+            s = np.einsum("ij,ij->i", B, self.a_w[r]) / np.maximum(
+                np.einsum("ij,ij->i", B, B), np.finfo(float).tiny)
+            S[r] = np.where(ok[:, None], B * s[:, None], 0.0)
+        return self.frequencies(effects), S
 
     def wpredict(self, effects, rows: np.ndarray | None = None) -> np.ndarray:
         f, S = self.modal_prediction(effects)
@@ -196,20 +197,72 @@ class ShapeProblem(ModalProblem):
     def wy(self, rows: np.ndarray | None = None) -> np.ndarray:
         return np.r_[super().wy(rows), self.a_w.ravel()]
 
+    def pair_mac(self, effects) -> np.ndarray:
+        """(n_modal,) MAC of each measured mode with its partner (NaN without one)."""
+        pr = self.pairing(effects)
+        out = np.full(len(self.f_meas), np.nan)
+        for p, tp in pr["terms"].items():
+            r = np.flatnonzero(self.modal_pose == p)
+            k = pr["model_mode"][r] - 1
+            out[r] = np.where(k >= 0, tp["mac"][np.arange(len(r)), np.maximum(k, 0)], np.nan)
+        return out
+
+    def lonely_lines(self, effects) -> list[str]:
+        pr = self.pairing(effects)
+        return lonely_lines(self.modal.poses, self.f_meas, pr["paired"], self._shape_words)
+
+    def reversed_channels(self, effects) -> list[tuple[int, str]]:
+        """``(column, line)`` per measured channel whose sign flip raises the mean MAC of
+        each measured mode with its most alike model mode within the frequency window, in
+        the model with ``effects`` (:func:`~.mac.reversed_channels`): a sensor mounted the
+        wrong way round drops the MAC of every mode it sees, so the modes may have no
+        partner at all until it is turned."""
+        pr = self.pairing(effects)
+        A, B = [], []
+        for p, tp in pr["terms"].items():
+            r = np.flatnonzero(self.modal_pose == p)
+            rel = np.abs(tp["f"][None, :] - self.f_meas[r, None]) / self.f_meas[r, None]
+            k = np.argmax(np.where(rel <= self.window, tp["mac"], -1.0), axis=1)
+            A.append(self.a_w[r])
+            B.append(tp["shapes"][k])
+        return [(i, f"channel node {int(self.modal.nodes[i])} {self.modal.dirs[i]} looks "
+                    f"reversed: flipping its sign raises the mean MAC from {before:.3f} to "
+                    f"{after:.3f}")
+                for i, before, after in reversed_channels(np.concatenate(A), np.concatenate(B))]
+
+    def _shape_words(self, i: int) -> str:
+        from ...robot.kinematics import link_frames
+
+        n = self.arm.chain.n_joints
+        q = self.modal.q[i, :n]
+        frames = link_frames(self.arm.chain, q)
+        index = {int(nd): k for k, nd in enumerate(self.points.nodes)}
+        P, labels = [], []
+        for nd in self.modal.nodes:
+            k = index[int(nd)]
+            body = int(self.points.links[k])
+            T = frames[body]
+            P.append(T[:3, :3] @ self.points.positions[k] + T[:3, 3])
+            labels.append(f"node {int(nd)} on {'the base' if body == 0 else f'link {body}'}")
+        dirs = ["xyz".index(str(d)) for d in self.modal.dirs]
+        return describe_shape(real_shapes(self.modal.shapes[i:i + 1])[0], np.array(P), dirs,
+                              labels)
+
     def shape_note(self, effects) -> str:
         """One line on the shapes in the fit of ``effects``: pairs, their lowest MAC and
         the shape chi^2 per observation (far below 1: the stated shape noise is too
         large, ``--shape-noise``)."""
-        arm, _ = self.model(effects)
-        keep = self.modal_keep
-        m = pair_by_shape(arm, self.modal, self.points, self.builds, keep, 0.0).mac[keep]
+        m = self.pair_mac(effects)
+        paired = m[np.isfinite(m)]
         c = self.shape_chi2(effects) / max(self.n_shape_obs, 1)
-        return (f"mode shapes: {len(m)} measured modes paired by MAC (lowest {m.min():.3f}); "
-                f"shape chi2 per observation {c:.2f} with a stated scatter of "
-                f"{100 * self.shape_noise:g} % of each shape's peak (about "
+        low = f"lowest {paired.min():.3f}" if paired.size else "none"
+        return (f"mode shapes: {paired.size} of {len(m)} measured modes paired by MAC and "
+                f"frequency ({low}); shape chi2 per observation {c:.2f} with a stated scatter "
+                f"of {100 * self.shape_noise:g} % of each shape's peak (about "
                 f"{100 * self.shape_noise * np.sqrt(c):.2g} % fits)")
 
     def shape_chi2(self, effects) -> float:
-        """chi^2 of the shapes alone (``sum |a|^2 (1 - MAC) / sigma^2`` over the pairs)."""
+        """chi^2 of the shapes alone (``sum |a|^2 (1 - MAC) / sigma^2`` over the pairs,
+        ``|a|^2 / sigma^2`` for a mode without a partner)."""
         r = self.a_w - self.modal_prediction(effects)[1]
         return float(np.sum(r**2))

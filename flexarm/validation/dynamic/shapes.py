@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...assembly.analyses import modes
+from ...assembly.effects import at_pose
 from ...assembly.flexible import body_coordinates
 from ...assembly.full_arm import FullFEArm
 from ...assembly.system import ArmModel, rotation_blocks, system_matrices
@@ -132,14 +133,16 @@ def model_shapes(arm: ArmModel, q: ArrayLike, points: Points, nodes: ArrayLike,
 
 
 def model_shape_data(arm: ArmModel, poses: dict, points: Points, n_modes: int = 6,
-                     builds=None) -> ShapeData:
+                     builds=None, effects=()) -> ShapeData:
     """Frequencies, damping and shapes at every point (x, y, z) of ``arm`` at ``poses``
-    (label -> q [rad]), as measured data would hold them."""
+    (label -> q [rad]), as measured data would hold them; ``effects`` may hold
+    pose-dependent springs (:func:`~flexarm.assembly.effects.at_pose`)."""
     nodes = np.repeat(points.nodes, 3)
     dirs = np.tile(list(DIRECTIONS), points.n_points)
     rows = []
     for label, q in poses.items():
-        f, z, phi = model_shapes(arm, q, points, nodes, dirs, n_modes, builds)
+        f, z, phi = model_shapes(at_pose(arm, effects, q), q, points, nodes, dirs, n_modes,
+                                 builds)
         rows.append((label, np.asarray(q, float), f, z, phi))
     k = [len(r[2]) for r in rows]
     q6 = np.zeros((sum(k), 6))

@@ -36,9 +36,9 @@ from ..data.measurements import ModalData, StaticData
 from ..data.shape_data import Points, ShapeData
 from ..data.units import parse_quantity
 from ..dynamic.compare_shapes import shape_builds
-from ..dynamic.modal import virtual_frfs, virtual_modal, virtual_shapes
 from ..models import DEFAULT_OPTIONS, ValidationOptions, load, validation_models
 from ..tolerances import tol
+from .modal_lab import virtual_frfs, virtual_modal, virtual_shapes
 
 __all__ = ["virtual_lab", "write_lab", "LabFiles",
            "LabResult", "run_lab", "lab_shapes"]

@@ -31,10 +31,12 @@ __all__ = ["Candidate", "Screen", "library", "screen", "load_proposal"]
 #: Typical sizes of amplitudes (signature scaling; untestable check).
 TYPICAL = {"width": 1e-4, "lost": 1e-4, "compliance_tilt": 2e-8, "compliance_base": 2e-8,
            "wrist": 1e-6, "tool": 5e-8, "frame_rotation": 1e-2,
-           "balancer": 0.1}  # balancer: fraction of the joint's gear stiffness
+           "balancer": 0.1,  # balancer: fraction of the joint's gear stiffness
+           "mass": 10.0, "loadcell": 0.02, "reflector": 0.02}
 #: Readable names of the candidates without a joint.
 LABELS = {"links": "link flexibility", "tool": "tool/adapter compliance",
-          "frame": "measurement frame misalignment"}
+          "frame": "measurement frame misalignment", "foundation": "anisotropic foundation",
+          "loadcell": "load-cell force scale", "reflector": "measurement-point offset"}
 
 
 @dataclass(frozen=True)
@@ -50,13 +52,15 @@ class Candidate:
 
     @property
     def name(self) -> str:
+        if self.kind == "mass":
+            return f"mass_l{self.joint + 1}"
         return self.kind if self.joint is None else f"{self.kind}_j{self.joint + 1}"
 
     @property
     def label(self) -> str:
         if self.joint is None:
             return LABELS.get(self.kind, self.kind)
-        return f"joint {self.joint + 1} {self.kind}"
+        return self.effect().label
 
     @property
     def n_params(self) -> int:
@@ -89,22 +93,28 @@ def library(problem: Problem) -> list[Candidate]:
     for j in range(min(3, n)):
         out.append(Candidate("tilt", j, ("compliance",), (TYPICAL["compliance_tilt"],)))
     out.append(Candidate("base", None, ("compliance",), (TYPICAL["compliance_base"],)))
+    out.append(Candidate("foundation", None, ("cx", "cy"), (TYPICAL["compliance_base"],) * 2))
     if n >= 6:
         out.append(Candidate("wrist", None, ("c45", "c46", "c56"), (TYPICAL["wrist"],) * 3))
     if getattr(problem, "flexible", None) is not None:
         out.append(Candidate("links", None, ("compliance",), (1.0,)))
     out += _measurement_candidates(problem)
+    if getattr(problem, "n_modal", 0):  # what only vibration data can tell from the joints
+        out += [Candidate("mass", j, ("mass",), (TYPICAL["mass"],)) for j in range(n)]
+        out.append(Candidate("loadcell", None, ("scale",), (TYPICAL["loadcell"],)))
     return out
 
 
 def _measurement_candidates(problem: Problem) -> list[Candidate]:
-    """Tool/adapter compliance, the measurement frame and a balancer on each of the first
-    three joints whose angle differs between series (it is a pose-dependent stiffness)."""
+    """Tool/adapter compliance, the measurement frame, the measurement point's offset from
+    the TCP and a balancer on each of the first three joints whose angle differs between
+    series (it is a pose-dependent stiffness)."""
     from ...robot.effects import TOOL_PARAMS
 
     out = [Candidate("tool", None, TOOL_PARAMS, (TYPICAL["tool"],) * 6),
            # a scale of the frame is all the joint compliances scaled alike: not a candidate
-           Candidate("frame", None, ("rx", "ry", "rz"), (TYPICAL["frame_rotation"],) * 3)]
+           Candidate("frame", None, ("rx", "ry", "rz"), (TYPICAL["frame_rotation"],) * 3),
+           Candidate("reflector", None, ("ox", "oy", "oz"), (TYPICAL["reflector"],) * 3)]
     angles = problem.data.q[problem.ref]
     for j in range(min(3, problem.arm.chain.n_joints)):
         if len(np.unique(np.round(angles[:, j], 6))) >= 2:
@@ -128,7 +138,10 @@ def signature(problem: Problem, effects, cand: Candidate, grid_value: float) -> 
 
 @dataclass(frozen=True)
 class Screen:
-    """Screening result of one candidate against the current fit."""
+    """Screening result of one candidate against the current fit.
+
+    ``start``: amplitudes a refit starts from (zeros, or the best of the nonlinear scan
+    of :func:`scan_gain`)."""
 
     candidate: Candidate
     grid_value: float
@@ -137,6 +150,41 @@ class Screen:
     dchi2: float
     dbic: float
     columns: np.ndarray  # whitened, unit amplitude, projected off the current model
+    start: tuple = ()
+
+
+#: Multiples of a candidate's typical amplitudes the nonlinear scan tries.
+SCAN = (0.1, 0.3, 1.0, 3.0, 10.0, 30.0)
+#: Kinds whose amplitudes all lie above zero and change the arm's modes: with vibration
+#: data a measured mode may pair only once their amplitude is large enough, which the
+#: linearised score test cannot see.
+SCANNED = ("tilt", "base", "foundation", "mass", "links")
+
+
+def scan_gain(problem: Problem, fit: FitResult, cand: Candidate, grid_value: float
+              ) -> tuple[float, tuple]:
+    """Largest fall of the chi-square (fixed cost of unpaired modes included) when
+    ``cand`` joins the fitted model at multiples :data:`SCAN` of its typical amplitudes
+    (each amplitude alone, and all together), and the amplitudes that give it; ``(0, ())``
+    when nothing falls."""
+    from .fit import try_wpredict
+
+    best, start = 0.0, ()
+    wy = problem.wy()
+    sizes = np.asarray(cand.sizes, float)
+    # every amplitude on its own, and all together
+    patterns = [np.eye(len(sizes))[i] for i in range(len(sizes))]
+    patterns += [np.ones(len(sizes))] if len(sizes) > 1 else []
+    for k, pattern in ((k, p) for p in patterns for k in SCAN):
+        amps = k * sizes * pattern
+        f, _ = try_wpredict(problem, list(fit.effects) + [cand.effect(grid_value, amps)])
+        if f is None:
+            continue
+        r = wy - f
+        gain = fit.chi2 - float(r @ r)
+        if gain > best:
+            best, start = gain, tuple(float(a) for a in amps)
+    return best, start
 
 
 def screen(problem: Problem, fit: FitResult, cand: Candidate) -> Screen:
@@ -163,8 +211,14 @@ def screen(problem: Problem, fit: FitResult, cand: Candidate) -> Screen:
         if best is None or gain > best[3]:
             best = (g, norm, unique, gain, R)
     g, norm, unique, gain, R = best
+    start = ()
+    if getattr(problem, "n_modal", 0) and cand.kind in SCANNED:
+        # the pairing of measured with model modes may change along the way, which the
+        # linearised gain cannot see: the chi-square at scanned amplitudes can
+        scanned, start = scan_gain(problem, fit, cand, g)
+        gain = max(gain, scanned)
     dbic = gain - cand.n_params * np.log(fit.n_obs)
-    return Screen(cand, g, norm, unique, gain, dbic, R)
+    return Screen(cand, g, norm, unique, gain, dbic, R, start)
 
 
 def status_of(s: Screen) -> str | None:

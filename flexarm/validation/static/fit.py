@@ -47,12 +47,14 @@ from ...assembly.effects import ADDED, added_deflection, apply_effects, measured
 from ...assembly.linkflex import links_arm, split_links
 from ...assembly.statics import joint_moments, series_starts
 from ...assembly.system import ArmModel
-from ...robot.effects import Effect
+from ...fe.errors import FlexarmError
+from ...robot.effects import Effect, lower_bound
 from ...robot.kinematics import jacobian
 from ..data.measurements import StaticData
 from ..tolerances import tol
 
-__all__ = ["Problem", "FitResult", "fit_model", "baseline_effects", "chi2_band"]
+__all__ = ["Problem", "FitResult", "FitError", "fit_model", "try_wpredict", "baseline_effects",
+           "chi2_band"]
 
 Param = tuple[int, str]  # (effect index, parameter name)
 
@@ -184,6 +186,12 @@ class Problem:
         keep = np.ones(len(self.is_ref), bool) if rows is None else rows
         return 3 * int((~self.is_ref & keep).sum() - (self.discounted & keep).sum())
 
+    def penalty(self, effects) -> tuple[float, int]:
+        """(chi-square, observations) that the model with ``effects`` pays at a fixed cost
+        and chi^2_red leaves out: none for static data (measured modes without a model
+        partner: :meth:`~flexarm.validation.dynamic.modal.ModalProblem.penalty`)."""
+        return 0.0, 0
+
 
 @dataclass(frozen=True)
 class FitResult:
@@ -205,14 +213,18 @@ class FitResult:
     residual: np.ndarray
     sensitivity: np.ndarray
     n_shape: int = 0
+    penalty: float = 0.0
+    n_penalised: int = 0
 
     @property
     def dof(self) -> float:
-        return max(self.n_obs - self.n_identified - self.n_shape, 1.0)
+        return max(self.n_obs - self.n_penalised - self.n_identified - self.n_shape, 1.0)
 
     @property
     def chi2_red(self) -> float:
-        return self.chi2 / self.dof
+        """chi^2 / dof without the fixed cost of measured modes that have no model partner
+        (``penalty`` over ``n_penalised`` observations, :meth:`Problem.penalty`)."""
+        return (self.chi2 - self.penalty) / self.dof
 
     @property
     def stderr(self) -> np.ndarray:
@@ -237,9 +249,44 @@ def _set(effects, free, theta):
     return out
 
 
+class FitError(FlexarmError, ValueError):
+    """A model a fit needs cannot be evaluated (its starting parameters give no finite
+    prediction); the reason is the message."""
+
+
+#: What evaluating a model with trial parameters may raise when they leave the domain in
+#: which it is valid (a non-positive-definite stiffness, a negative factor).
+MODEL_ERRORS = (ValueError, ArithmeticError, np.linalg.LinAlgError, FlexarmError)
+
+
+def try_wpredict(problem: Problem, effects, rows=None) -> tuple[np.ndarray | None, str]:
+    """``(problem.wpredict(effects, rows), "")``, or ``(None, reason)`` when the model with
+    these effects cannot be evaluated or predicts a non-finite value."""
+    try:
+        f = problem.wpredict(effects, rows)
+    except MODEL_ERRORS as exc:
+        return None, f"{type(exc).__name__}: {exc}".strip()
+    if not np.all(np.isfinite(f)):
+        return None, "the model predicts a non-finite value"
+    return f, ""
+
+
+def _inside(theta: np.ndarray, step: np.ndarray, lower: np.ndarray) -> np.ndarray:
+    """``step`` cut per parameter so that ``theta + step`` stays above ``lower``: at most
+    95 % of the way to the bound (the fraction-to-boundary rule of interior-point
+    methods), so a compliance never reaches zero or below."""
+    room = theta - lower
+    return np.where(step < -0.95 * room, -0.95 * room, step)
+
+
 def fit_model(problem: Problem, effects, free, scales, prior=None, rows=None,
               iterations: int = 3, n_shape: int = 0) -> FitResult:
     """Gauss-Newton GLS fit of the ``free`` parameters of ``effects``.
+
+    Each step stays inside the parameters' domain (:func:`~flexarm.robot.effects.lower_bound`:
+    compliances stay positive) and is halved until the penalised chi-square falls; a trial
+    model that cannot be evaluated counts as a rise.  A sensitivity that the forward
+    difference cannot evaluate is taken backward.
 
     Parameters
     ----------
@@ -255,41 +302,73 @@ def fit_model(problem: Problem, effects, free, scales, prior=None, rows=None,
     n_shape : int
         Shape parameters of ``effects`` that were chosen by a search on the same data
         (they stay fixed here but use up degrees of freedom).
+
+    Raises
+    ------
+    FitError
+        The model cannot be evaluated at the starting parameters.
     """
     effects, free = list(effects), list(free)
     scales = np.asarray(scales, dtype=float)
     theta = np.array([effects[i].get(name) for i, name in free])
+    lower = np.array([lower_bound(effects[i].kind, name) for i, name in free])
+    theta = np.maximum(theta, lower + np.where(np.isfinite(lower), 1e-6 * scales, 0.0))
     prior = prior or {}
     mu = np.array([prior.get(f, (0.0, np.inf))[0] for f in free])
     sd = np.array([prior.get(f, (0.0, np.inf))[1] for f in free])
     P = np.where(np.isfinite(sd), 1 / np.where(np.isfinite(sd), sd, 1) ** 2, 0.0)
+    D = scales
+    wy = problem.wy(rows)
+    f0, why = try_wpredict(problem, _set(effects, free, theta), rows)
+    if f0 is None:
+        raise FitError(f"the model cannot be evaluated at its starting parameters ({why})")
+
+    def objective(f, th):
+        r = wy - f
+        return float(r @ r + np.sum(P * (th - mu) ** 2))
+
+    J0 = objective(f0, theta)
+    X = np.zeros(f0.shape + (len(free),))
     for _ in range(iterations):
-        f0 = problem.wpredict(_set(effects, free, theta), rows)
         cols = []
         for k in range(len(free)):
             h = tol.fd_step * max(scales[k], abs(theta[k]))
-            t = theta.copy()
-            t[k] += h
-            cols.append((problem.wpredict(_set(effects, free, t), rows) - f0) / h)
+            for sign in (1.0, -1.0):
+                t = theta.copy()
+                t[k] += sign * h
+                f1, _ = try_wpredict(problem, _set(effects, free, t), rows)
+                if f1 is not None:
+                    cols.append(sign * (f1 - f0) / h)
+                    break
+            else:
+                cols.append(np.zeros_like(f0))
         X = np.stack(cols, axis=-1) if cols else np.zeros(f0.shape + (0,))
-        r = problem.wy(rows) - f0
         # normal equations in scaled variables, with the prior
-        D = scales
         A = (X * D).T @ (X * D) + np.diag(P * D**2)
-        b = (X * D).T @ r - P * D * (theta - mu)
-        step = D * np.linalg.lstsq(A, b, rcond=1e-12)[0]
-        theta = theta + step
+        b = (X * D).T @ (wy - f0) - P * D * (theta - mu)
+        step = _inside(theta, D * np.linalg.lstsq(A, b, rcond=1e-12)[0], lower)
+        for _halving in range(8):
+            f1, _ = try_wpredict(problem, _set(effects, free, theta + step), rows)
+            J1 = objective(f1, theta + step) if f1 is not None else np.inf
+            if J1 <= J0 + 1e-9 * max(J0, 1.0):
+                break
+            step = step / 2
+        else:
+            break
+        theta, f0, J0 = theta + step, f1, J1
         if np.all(np.abs(step) <= 1e-6 * np.maximum(np.abs(theta), scales)):
             break
     final = _set(effects, free, theta)
-    res = problem.wy(rows) - problem.wpredict(final, rows)
+    res = wy - f0
     A = (X * D).T @ (X * D) + np.diag(P * D**2)
     Ainv = np.linalg.pinv(A, rcond=1e-12)
     cov = D[:, None] * Ainv * D[None, :]
     G = Ainv @ ((X * D).T @ (X * D))  # tr(G) = tr(H), tr(G G) = tr(H^2)
     n_fit = float(2 * np.trace(G) - np.trace(G @ G))
+    penalty, n_penalised = problem.penalty(final)
     return FitResult(tuple(final), tuple(free), theta, cov, float(res @ res),
-                     problem.n_obs_rows(rows), n_fit, res, X, int(n_shape))
+                     problem.n_obs_rows(rows), n_fit, res, X, int(n_shape), penalty,
+                     n_penalised)
 
 
 def chi2_band(dof: float, coverage: float = tol.chi2_band_coverage) -> tuple[float, float]:
@@ -317,47 +396,6 @@ def chi2_band(dof: float, coverage: float = tol.chi2_band_coverage) -> tuple[flo
     return float(chi2.ppf(a, dof) / dof), float(chi2.ppf(1 - a, dof) / dof)
 
 
-def heldout_rms(problem: Problem, effects, free, scales, prior, folds: int = tol.cv_folds,
-                by: str | None = None) -> float:
-    """RMS [m] of the raw relative residual on held-out readings or series.
-
-    ``by`` (default ``tol.heldout_by``): ``"readings"`` holds out every ``folds``-th
-    reading of every series (stratified: each fold holds readings of every series, so a
-    torque reversal seen in one series only is still both fitted and tested; a held-out
-    reading leaves the fit as a discounted one does); ``"series"`` holds out whole series
-    (round-robin over a fixed permutation).  Discounted readings are never tested.
-    """
-    import copy
-
-    by = by or tol.heldout_by
-    if by not in ("readings", "series"):
-        raise ValueError(f"heldout by must be 'readings' or 'series', got {by}")
-    sid = problem.series_id
-    n_s = sid.max() + 1
-    if n_s < folds:
-        return float("nan")
-    perm = np.random.default_rng(0).permutation(n_s)  # fixed, mixes directions
-    if by == "series":
-        fold_of = (perm % folds)[sid]
-    else:
-        pos = np.arange(len(sid)) - problem.ref  # position within the series
-        fold_of = (pos + perm[sid]) % folds
-    usable = ~problem.is_ref & ~problem.discounted
-    sq, cnt = 0.0, 0
-    for k in range(folds):
-        test = fold_of == k
-        if by == "series":
-            fr = fit_model(problem, effects, free, scales, prior, rows=~test, iterations=2)
-        else:
-            train = copy.copy(problem)
-            train.discount(np.flatnonzero(test & ~problem.is_ref))
-            fr = fit_model(train, effects, free, scales, prior, iterations=2)
-        r = (problem.y - problem.predict(fr.effects))[test & usable]
-        sq += float((r**2).sum())
-        cnt += r.size
-    return float(np.sqrt(sq / max(cnt, 1)))
-
-
 def with_effect(effects, free, scales, prior, effect: Effect, names, sizes):
     """Append ``effect`` with free parameters ``names`` (typical ``sizes``)."""
     effects = list(effects) + [effect]
@@ -366,4 +404,4 @@ def with_effect(effects, free, scales, prior, effect: Effect, names, sizes):
             np.r_[scales, sizes], dict(prior))
 
 
-__all__ += ["heldout_rms", "with_effect"]
+__all__ += ["with_effect"]

@@ -37,6 +37,11 @@ class Misfit:
         The residual-structure tests of the final model.
     discounted : tuple of (str, int)
         Readings left out of every fit as outliers (series, step).
+    missing_modes : tuple of str
+        Measured modes the final model has no partner for, one line each ("the model
+        lacks a mode near 108 Hz at P1 (shape: the whole arm rocks about base x)").
+    channels : tuple of str
+        Measured channels whose sign looks reversed, one line each.
     """
 
     unexplained: bool
@@ -45,6 +50,8 @@ class Misfit:
     band: tuple
     structure: ResidualStructure
     discounted: tuple = ()
+    missing_modes: tuple = ()
+    channels: tuple = ()
 
     @property
     def structures(self) -> tuple[str, ...]:
@@ -53,6 +60,10 @@ class Misfit:
         names = [t.name for t in self.structure.found]
         if self.discounted and "outliers" not in names:
             names.insert(0, "outliers")
+        if self.missing_modes:
+            names.insert(0, "missing_mode")
+        if self.channels:
+            names.insert(0, "reversed_channel")
         if self.unexplained and not names:
             names.append("scale")
         return tuple(names)
@@ -77,6 +88,7 @@ class Misfit:
         out = ["", f"residual of the final model ({self.model}), each test at a false-alarm "
                f"rate of {tol.structure_alpha:g}:"]
         out += [f"  {'FOUND' if t.found else 'no'}: {t.line()}" for t in s.tests]
+        out += [f"  FOUND: {line}" for line in self.channels + self.missing_modes]
         if self.discounted:
             out.append("  discounted as outliers (left out of every fit): "
                        + ", ".join(f"{a} step {k}" for a, k in self.discounted))
@@ -89,6 +101,11 @@ def _short(m: Misfit, name: str) -> str:
     if name == "scale":
         return (f"no structure, only scale: noise is about {m.structure.noise_scale:.1f}x "
                 f"the stated sigma")
+    if name == "reversed_channel":
+        return "; ".join(m.channels)
+    if name == "missing_mode":
+        more = f" and {len(m.missing_modes) - 2} more" if len(m.missing_modes) > 2 else ""
+        return "; ".join(m.missing_modes[:2]) + more
     if name == "outliers" and m.discounted:
         shown = ", ".join(f"{a} step {k}" for a, k in m.discounted[:4])
         more = " ..." if len(m.discounted) > 4 else ""
@@ -99,9 +116,12 @@ def _short(m: Misfit, name: str) -> str:
 
 
 def misfit_verdict(model: str, chi2_red: float, band: tuple, structure: ResidualStructure,
-                   discounted: tuple = ()) -> Misfit:
+                   discounted: tuple = (), missing_modes: tuple = (),
+                   channels: tuple = ()) -> Misfit:
     """The verdict on a final model with ``chi2_red`` in or out of ``band``, its residual
-    ``structure`` and the readings ``discounted`` as outliers.
+    ``structure``, the readings ``discounted`` as outliers and the measured modes it has no
+    partner for (``missing_modes``) and the channels that look reversed (``channels``), one
+    line each.
 
     Examples
     --------
@@ -115,6 +135,7 @@ def misfit_verdict(model: str, chi2_red: float, band: tuple, structure: Residual
     'UNEXPLAINED MISFIT: no candidate explains the data; baseline leaves chi2_red 1.400 \
 above its band 0.830-1.190; drift in reading order (5.0 µm per reading)'
     """
-    unexplained = bool(chi2_red > band[1] or structure.found or discounted)
+    unexplained = bool(chi2_red > band[1] or structure.found or discounted or missing_modes
+                       or channels)
     return Misfit(unexplained, model, float(chi2_red), tuple(band), structure,
-                  tuple(discounted))
+                  tuple(discounted), tuple(missing_modes), tuple(channels))

@@ -18,7 +18,8 @@ __all__ = ["physical_refit", "shape_marginal"]
 def physical_refit(problem: Problem, fr, free, scales, prior, best: Screen, n_shape: int = 0):
     """Physical refit of a candidate with the current model: amplitudes the data can see
     (whitened norm at typical size >= ``tol.untestable_norm``) are free, the others stay
-    0; the shape parameter (if any) is optimised around its best grid value and counted
+    0; they start from the best amplitudes of the screen's nonlinear scan (zero without
+    one); the shape parameter (if any) is optimised around its best grid value and counted
     in the degrees of freedom (with the ``n_shape`` of the current model).
 
     Returns the fit, its free parameters and scales, the amplitudes kept and the standard
@@ -36,10 +37,14 @@ def physical_refit(problem: Problem, fr, free, scales, prior, best: Screen, n_sh
 
     n_shape2 = n_shape + (c.grid_name is not None)
 
+    starts = [np.zeros(len(c.amplitudes))]
+    if best.start:  # the nonlinear scan's amplitudes too: the better of the two fits wins
+        starts.append(np.asarray(best.start, float))
+
     def run(g, iterations=3):
-        eff = list(fr.effects) + [c.effect(g)]
-        return fit_model(problem, eff, free2, scales2, prior, iterations=iterations,
-                         n_shape=n_shape2)
+        fits = [fit_model(problem, list(fr.effects) + [c.effect(g, a)], free2, scales2, prior,
+                          iterations=iterations, n_shape=n_shape2) for a in starts]
+        return min(fits, key=lambda f: f.chi2)
 
     g = best.grid_value
     if c.grid_name is not None:

@@ -205,8 +205,9 @@ def test_optional_tables_are_left_out():
     # a table or key that would be dropped silently changes the model: all are errors
     (lambda d: d.update(tol=d.pop("tool")), "top level: unknown key 'tol' (did you mean 'tool'?)"),
     (lambda d: d.update(robot_name="x"),
-     "top level: unknown key 'robot_name' (allowed: ['base', 'format_version', 'joints', "
-     "'links', 'modal_damping', 'model', 'name', 'nonlinear', 'poses', 'tool', 'wrist'])"),
+     "top level: unknown key 'robot_name' (allowed: ['base', 'effects', 'format_version', "
+     "'joints', 'links', 'modal_damping', 'model', 'name', 'nonlinear', 'poses', 'tool', "
+     "'wrist'])"),
     (lambda d: d["wrist"].update(couplng=d["wrist"].pop("coupling")),
      "wrist: unknown key 'couplng' (did you mean 'coupling'?)"),
     (lambda d: d["model"].update(mesh_siz=0.01), "model: unknown key 'mesh_siz' (did you mean "

@@ -8,7 +8,8 @@ import pytest
 from flexarm.robot.effects import parse_effect
 from flexarm.validation.diagnosis.history import robot_with_effects
 from flexarm.validation.diagnosis.search import diagnose
-from flexarm.validation.dynamic.modal import ModalProblem, virtual_modal
+from flexarm.validation.dynamic.modal import ModalProblem
+from flexarm.validation.lab.modal_lab import virtual_modal
 from flexarm.validation.tolerances import tol
 
 from ..conftest import PERTURB, noise_alone
@@ -38,7 +39,10 @@ def test_7_link_flexibility_static_aliased_modal_found(demo, flex, lab):
     modal = _truth(demo, flex)
     dg = diagnose(ea, data, SIGMA, flexible=fa, modal=modal)
     pb = ModalProblem(ea, data, SIGMA, flexible=fa, modal=modal)
-    assert not pb.unmatched  # every measured mode has its model mode
+    # a measured mode the E-model fitted to the statics has no partner for (one mode at P1
+    # sits about 30 % below its E-model mode) stays in the data as evidence; with the
+    # flexible links every measured mode has its partner
+    assert not pb.lonely_lines(dg.final_effects) and not dg.misfit.missing_modes
     noise = noise_alone(pb, data, lab(HIDDEN, model=ea, flexible=fa, noise=0.0),
                         _truth(demo, flex, freq_noise=0.0))
     step = _found(dg, "links", "compliance", 1.0, noise)

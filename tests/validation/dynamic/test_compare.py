@@ -11,7 +11,7 @@ from flexarm.validation.dynamic.compare import (
     write_frf_report,
     write_modal_report,
 )
-from flexarm.validation.dynamic.modal import virtual_modal
+from flexarm.validation.lab.modal_lab import virtual_modal
 
 from ..helpers import frf_data
 

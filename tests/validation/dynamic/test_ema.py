@@ -9,8 +9,8 @@ from flexarm.cli import main
 from flexarm.validation.data.formats import read_measurements
 from flexarm.validation.dynamic.ema import run_ema
 from flexarm.validation.dynamic.mac import mac
-from flexarm.validation.dynamic.modal import virtual_frfs
 from flexarm.validation.dynamic.shapes import default_points, model_shapes
+from flexarm.validation.lab.modal_lab import virtual_frfs
 
 pytest.importorskip("sdypy.EMA")
 

@@ -12,8 +12,8 @@ from flexarm.robot.effects import parse_effect
 from flexarm.validation.data.shape_data import Points
 from flexarm.validation.dynamic.compare_shapes import compare_shapes
 from flexarm.validation.dynamic.mac import comac, mac, pair_modes
-from flexarm.validation.dynamic.modal import virtual_shapes
 from flexarm.validation.dynamic.shapes import default_points
+from flexarm.validation.lab.modal_lab import virtual_shapes
 
 
 def test_mac_is_scale_and_phase_blind_and_matches_definition():
@@ -61,7 +61,7 @@ def test_unpaired_mode_is_reported_not_forced():
     M = np.array([[0.95, 0.1], [0.2, 0.3], [0.05, 0.9]])
     p = pair_modes(M, [10.0, 12.0, 30.0], [10.2, 29.0])
     assert p.model.tolist() == [0, -1, 1]
-    assert p.mac[1] == pytest.approx(0.3)
+    assert p.mac[1] == pytest.approx(0.2)  # its best within a factor 2 (29 Hz is not)
 
 
 def test_comac_drops_only_where_the_shapes_differ():

@@ -15,6 +15,7 @@ from flexarm.validation.dynamic.modal import (
     match_modes,
     model_frequencies,
 )
+from flexarm.validation.tolerances import tol
 
 
 def _modal(q, rows):
@@ -62,7 +63,10 @@ def test_close_modes_listed_out_of_order(demo):
     assert pb.modal_chi2([]) < 1.0  # every frequency within 0.2 % of its model mode
 
 
-def test_unmatched_measured_mode_reported_and_left_out(demo):
+def test_unmatched_measured_mode_reported_and_kept_as_evidence(demo):
+    """A measured mode at half the first model frequency: ``compare``'s table reports it
+    unmatched; the diagnosis keeps it in the data at the fixed cost ``C^2`` (left out of
+    chi^2_red, so the static fit is not spoiled) and names it in the verdict."""
     robot, arm = demo
     q = robot.pose("P1")
     F = natural_frequencies(arm, q)
@@ -77,10 +81,14 @@ def test_unmatched_measured_mode_reported_and_left_out(demo):
                            "factor 1.5")
     data = _static(robot, arm)
     pb = ModalProblem(arm, data, modal=modal)
-    assert pb.n_modal == 2 and pb.n_obs == pb.n_obs_rows() == 3 * 4 + 2
+    assert pb.n_modal == 3 and pb.n_obs == pb.n_obs_rows() == 3 * 4 + 3
     assert len(pb.wy()) == len(pb.wpredict([]))
+    C = tol.pair_window / tol.freq_noise
+    assert (pb.wy() - pb.wpredict([]))[-1] == pytest.approx(C)
+    assert pb.penalty([]) == (pytest.approx(C**2), 1)
     dg = diagnose(arm, data, modal=modal, heldout=False, max_effects=0)
-    assert any(n.startswith("modal data: pose P1 mode 3") for n in dg.notes)
+    assert dg.misfit.missing_modes == (f"the model lacks a mode near {spurious:.4g} Hz at P1",)
+    assert dg.unexplained and dg.final.chi2_red < 2.0
 
 
 def test_too_many_measured_modes(demo):

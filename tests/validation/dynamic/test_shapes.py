@@ -9,8 +9,8 @@ from flexarm.assembly.analyses import modes
 from flexarm.fe.errors import ReadError
 from flexarm.validation.data.formats import read_measurements, write_modal
 from flexarm.validation.data.shape_data import Points, ShapeData
-from flexarm.validation.dynamic.modal import virtual_shapes
 from flexarm.validation.dynamic.shapes import default_points, model_shapes, point_map
+from flexarm.validation.lab.modal_lab import virtual_shapes
 
 
 @pytest.mark.parametrize("pose", ["P1", "P2", "P3"])

@@ -17,12 +17,13 @@ from ..measurements import FrfData, ModalData, PathData, StaticData
 from . import csv_frf, csv_modal, csv_path, csv_static, uff, uff_write
 from ._registry import KINDS, detect_kind, register_kind, vocabulary
 from ._table import MeasurementFileError, read_table
+from .uff import UffOptions
 
 __all__ = [
     "KINDS", "MeasurementFileError", "detect_kind", "register_kind",
     "read_measurements", "read_static", "read_modal", "read_frf", "read_path",
     "write_measurements", "write_static", "write_modal", "write_frf", "write_path",
-    "example_path", "registry",
+    "example_path", "registry", "UffOptions",
 ]
 
 log = logging.getLogger(__name__)
@@ -34,7 +35,8 @@ Measurements = StaticData | ModalData | FrfData | PathData
 EXAMPLES = Path(__file__).resolve().parents[3] / "data" / "examples"
 
 
-def read_measurements(path: PathType, limits: ArrayLike | None = None) -> Measurements:
+def read_measurements(path: PathType, limits: ArrayLike | None = None,
+                      uff: UffOptions | None = None) -> Measurements:
     """Read a measurement file of any kind, recognised from its columns.
 
     Parameters
@@ -44,6 +46,8 @@ def read_measurements(path: PathType, limits: ArrayLike | None = None) -> Measur
     limits : (6, 2) float, optional
         Lower and upper joint limits [rad], e.g.
         ``np.column_stack([robot.lower, robot.upper])``; rows outside raise.
+    uff : UffOptions, optional
+        What a universal file from another tool does not say (its pose, ...).
 
     Returns
     -------
@@ -62,6 +66,8 @@ def read_measurements(path: PathType, limits: ArrayLike | None = None) -> Measur
     ('StaticData', 2)
     """
     fmt = registry.find(path)
+    if fmt is not None and fmt.name == "uff":
+        return registry.read(path, uff=uff)
     if fmt is not None and fmt.name != "csv":  # other extensions are read as CSV
         return registry.read(path)
     table = read_table(path, vocabulary())
@@ -83,14 +89,24 @@ def read_static(path: PathType, limits: ArrayLike | None = None) -> StaticData:
     return csv_static.read(path, limits)
 
 
-def read_modal(path: PathType, limits: ArrayLike | None = None) -> ModalData:
-    """Read a modal (natural frequency) file.
+def read_modal(path: PathType, limits: ArrayLike | None = None,
+               uff: UffOptions | None = None) -> ModalData:
+    """Read a modal (natural frequency) file: a modal CSV, or a universal file with mode
+    shapes (55 sets: frequencies, damping ratios and shapes, :class:`ShapeData`).
 
     Examples
     --------
     >>> read_modal(example_path("modal")).pose_labels()
     ['c1', 'c2']
     """
+    fmt = registry.find(path)
+    if fmt is not None and fmt.name == "uff":
+        data = registry.read(path, uff=uff)
+        if not isinstance(data, ModalData):
+            raise MeasurementFileError(
+                f"{path}: FRFs but no mode shapes (no 55 sets): identify the modes first, "
+                f"flexarm ema {Path(path).name} -o modal.csv, and give that file")
+        return data
     return csv_modal.read(path, limits)
 
 
