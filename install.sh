@@ -74,3 +74,14 @@ if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--mpi" ]; then
   }
   mpi_venv || echo "install.sh: no MPI environment (.venv/mpi): no petsc backend" >&2
 fi
+
+# The docs test opens the built site in a headless browser: Debian's chromium and its
+# driver (a failure only skips that test).
+if [ "${1:-}" = "--test" ] && ! command -v chromedriver >/dev/null 2>&1 \
+    && command -v apt-get >/dev/null 2>&1; then
+  SUDO=""; [ "$(id -u)" != 0 ] && command -v sudo >/dev/null 2>&1 && SUDO="sudo"
+  echo "install.sh: installing chromium and chromium-driver for the docs test"
+  { $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq \
+      --no-install-recommends chromium chromium-driver >/dev/null; } \
+    || echo "install.sh: could not install chromium: the browser check of the docs skips" >&2
+fi

@@ -218,7 +218,7 @@ class IdentificationReport:
     K_diag : (3, 3) float
         Diagonal-only stiffness from axial static gains (eq. 3.9) [N/m].
     error_diag : (3,) float
-        Relative error |x_diag - x| / |x| of the diagonal model per load case [-].
+        Relative error ``|x_diag - x| / |x|`` of the diagonal model per load case [-].
     error_full : (3,) float
         The same for the identified full matrix (round-off only) [-].
     """

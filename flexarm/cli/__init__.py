@@ -34,7 +34,7 @@ from . import (  # noqa: F401
 )
 from ._common import COMMANDS, set_quiet
 
-__all__ = ["main", "COMMANDS"]
+__all__ = ["main", "parser", "COMMANDS"]
 
 
 #: Command groups in the order ``flexarm --help`` lists them (the main job first).
@@ -68,23 +68,25 @@ def _add_verbosity(parser: argparse.ArgumentParser, default) -> None:
                    help="no progress lines on stderr, only warnings and errors")
 
 
-def _parser() -> argparse.ArgumentParser:
+def parser() -> argparse.ArgumentParser:
+    """The ``flexarm`` command's parser, every command and option (the CLI reference is
+    generated from it)."""
     from .. import __version__
 
-    parser = argparse.ArgumentParser(
+    top = argparse.ArgumentParser(
         prog="flexarm",
         description="FE substructuring and modal reduction for industrial robot arms.",
         formatter_class=_HelpFormatter,
     )
-    parser.add_argument("--version", action="version", version=f"flexarm {__version__}")
-    _add_verbosity(parser, False)
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    top.add_argument("--version", action="version", version=f"flexarm {__version__}")
+    _add_verbosity(top, False)
+    sub = top.add_subparsers(dest="command", metavar="COMMAND")
     for name, (help_, add_args, run) in sorted(COMMANDS.items(), key=_group_rank):
         p = sub.add_parser(name, help=help_, description=help_, formatter_class=_HelpFormatter)
         add_args(p)
         _add_verbosity(p, argparse.SUPPRESS)
         p.set_defaults(_run=run)
-    return parser
+    return top
 
 
 def _one_line_warnings(message, category, filename, lineno, file=None, line=None) -> None:
@@ -106,17 +108,17 @@ def main(argv: list[str] | None = None) -> int:
     """
     from ..fe.errors import FlexarmError
 
-    parser = _parser()
-    args = parser.parse_args(argv)
+    cli = parser()
+    args = cli.parse_args(argv)
     if args.verbose and args.quiet:
-        parser.error("-v/--verbose and -q/--quiet exclude each other")
+        cli.error("-v/--verbose and -q/--quiet exclude each other")
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.ERROR if args.quiet else logging.WARNING,
         format="%(levelname)s %(name)s: %(message)s",
     )
     set_quiet(args.quiet)
     if not getattr(args, "_run", None):  # bare ``flexarm``: help on stdout, success (git's way)
-        parser.print_help()
+        cli.print_help()
         return 0
     old_showwarning = warnings.showwarning
     warnings.showwarning = _one_line_warnings

@@ -4,7 +4,7 @@ The ``n`` eigenpairs nearest a shift ``sigma`` from one factorisation of
 ``K - sigma M``, built as a Krylov-Schur method:
 
 * operator ``OP = (K - sigma M)^{-1} M``, self-adjoint in the M-inner product, with
-  eigenvalues ``theta = 1 / (lam - sigma)``; the wanted pairs are the largest |theta|
+  eigenvalues ``theta = 1 / (lam - sigma)``; the wanted pairs are the largest ``|theta|``
   (those nearest the shift), as ARPACK's ``which="LM"``;
 * the Krylov space grows a block of ``p`` vectors at a time (one ``p``-column solve),
   with full M-reorthogonalisation: the block's large components along the previous two
@@ -17,7 +17,7 @@ The ``n`` eigenpairs nearest a shift ``sigma`` from one factorisation of
   below ``tol * |theta|`` (ARPACK's test) or below the rounding level of ``H``;
 * thick restart when the basis is full: the best Ritz vectors are kept with their
   coupling to the next block; converged pairs are locked (kept, no longer iterated), so
-  the huge |theta| of the rigid modes of a free part does not limit its elastic ones.
+  the huge ``|theta|`` of the rigid modes of a free part does not limit its elastic ones.
 
 Why blocks, and why the default block is still 1: a p-column PARDISO solve costs much
 less than p single solves (20 columns: ~0.25-0.35 of 20 single solves), which is what

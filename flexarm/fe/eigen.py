@@ -45,7 +45,7 @@ class Modes:
         The spectral shift used [rad^2/s^2].
     scale : float
         Stiffness scale median(K_ii / M_ii) [rad^2/s^2]; rigid modes are those with
-        |omega^2| below ``tol.rigid_mode * scale`` (independent of the shift chosen).
+        ``|omega^2|`` below ``tol.rigid_mode * scale`` (independent of the shift chosen).
     """
 
     omega2: np.ndarray

@@ -10,9 +10,9 @@ __all__ = ["Tolerances", "tol"]
 
 @dataclass(frozen=True)
 class Tolerances:
-    #: Relative volume below which a tetrahedron counts as degenerate (|V| / mean |V|).
+    #: Relative volume below which a tetrahedron counts as degenerate (``|V| / mean |V|``).
     degenerate_volume: float = 1e-12
-    #: Rigid-body modes: |omega^2| below this fraction of median(K_ii / M_ii) counts as zero.
+    #: Rigid-body modes: ``|omega^2|`` below this fraction of median(K_ii / M_ii) counts as zero.
     rigid_mode: float = 1e-12
     #: Eigenvalue shift for free parts, as a fraction of median(K_ii / M_ii): small, so that
     #: thin parts (first elastic omega^2 ~ 1e-9 of the mesh scale) still converge quickly.

@@ -20,7 +20,7 @@ class Tolerances:
     sliver_dihedral_deg: float = 5.0
     #: pytetwild envelope: allowed surface deviation / bounding-box diagonal.
     tet_envelope: float = 1e-3
-    #: |V_tets - V_surface| / V_surface above which tetrahedralisation logs a warning.
+    #: ``|V_tets - V_surface| / V_surface`` above which tetrahedralisation logs a warning.
     tet_volume_warn: float = 1e-2
     #: Hollowing: deepest surface vertex below the convex hull, over the largest extent,
     #: for the surface to count as convex (STL exports of convex hulls stay below ~6e-5).

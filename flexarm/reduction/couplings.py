@@ -5,16 +5,16 @@ FE DOFs, ``x = [x_interior; x_boundary]`` the *coupled* DOFs.  The boundary bloc
 the masters, 6 per interface node (or 3 per kept region node), in interface order, so
 a reduction only has to split ``x`` at ``n_interior``.  No penalty numbers anywhere:
 
-``rbe2``  Rigid spider.  Every slave DOF is eliminated: ``u_s = u_m + theta_m x r_s``.
-``rbe3``  Weighted average, no added stiffness.  The master motion is the weighted
-          least-squares rigid fit of the slave motion, ``q_m = W u_S`` with weights =
-          tributary surface area.  To make the master an *independent* DOF (the one a
-          superelement is reduced onto) six slave DOFs are made dependent instead,
-          chosen by pivoted QR of ``W`` (like Nastran's UM set), and solved from the
-          constraint: ``u_d = W_d^-1 (q_m - W_o u_o)``.  All other slaves stay free, so
-          the only thing the coupling adds is the averaging constraint itself.
-``nodes`` ``k`` region nodes (3 DOFs each, farthest-point sampled) or all of them are
-          the masters; the other region nodes stay free.
+* ``rbe2``: rigid spider.  Every slave DOF is eliminated: ``u_s = u_m + theta_m x r_s``.
+* ``rbe3``: weighted average, no added stiffness.  The master motion is the weighted
+  least-squares rigid fit of the slave motion, ``q_m = W u_S`` with weights = tributary
+  surface area.  To make the master an *independent* DOF (the one a superelement is
+  reduced onto) six slave DOFs are made dependent instead, chosen by pivoted QR of ``W``
+  (like Nastran's UM set), and solved from the constraint:
+  ``u_d = W_d^-1 (q_m - W_o u_o)``.  All other slaves stay free, so the only thing the
+  coupling adds is the averaging constraint itself.
+* ``nodes``: ``k`` region nodes (3 DOFs each, farthest-point sampled) or all of them are
+  the masters; the other region nodes stay free.
 """
 
 from __future__ import annotations

@@ -25,7 +25,7 @@ from .superelement import Superelement
 from .tolerances import tol
 
 __all__ = ["render_backend", "prefetch_render_backend", "has_display", "render_field",
-           "render_mode", "write_mode", "MODE_EXTENSIONS"]
+           "render_mode", "write_mode", "MODE_EXTENSIONS", "scene_key", "probe_key"]
 
 #: Mode-shape files for ParaView (and any VTK reader), written with meshio.
 MODE_EXTENSIONS = (".vtu", ".vtk")
@@ -205,7 +205,7 @@ def save_picture(plotter, path, n_frames: int, move) -> Path:
 def render_field(se: Superelement, u: np.ndarray, path=None, title: str = "",
                  amplitude: float = 0.1, n_frames: int = 24, interactive: bool = False,
                  window_size=(1024, 768)) -> Path | None:
-    """Draw the surface deformed by ``u`` (n_nodes, 3) [m], coloured by |u|.
+    """Draw the surface deformed by ``u`` (n_nodes, 3) [m], coloured by ``|u|``.
 
     Parameters
     ----------

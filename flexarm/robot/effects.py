@@ -2,33 +2,33 @@
 
 An :class:`Effect` is a kind, an optional joint and named parameters in SI units:
 
-================  ==========================================  ============================
-kind              parameters                                  model
-================  ==========================================  ============================
-``stiffness``     ``scale`` [-]                               torsion compliance x scale
-``backlash``      ``width`` [rad]                             dead band
-``hardening``     ``extra`` [rad/(N m)], ``threshold`` [N m]  softer below the threshold
-``hysteresis``    ``lost`` [rad], ``radius`` [N m]            lost motion, rounded
-``tilt``          ``compliance`` [rad/(N m)]                  bearing tilt in series
-``base``          ``compliance`` [rad/(N m)]                  foundation tilt about x, y
-``wrist``         ``c45``, ``c46``, ``c56`` [rad/(N m)]       coupled wrist compliance
-``links``         ``compliance`` [-]                          link flexibility
-``tool``          ``cxx`` ... ``cyz`` [m/N]                   tool/adapter compliance,
-                                                              3x3 in the tool frame
-``balancer``      ``kc``, ``ks`` [N m/rad]                    gravity balancer: stiffness
-                                                              ``kc cos q + ks sin q``
-                                                              in parallel with the gear
-``frame``         ``rx``, ``ry``, ``rz`` [rad], ``scale`` [-]  tracker frame misaligned:
-                                                              small rotation and scale
-``foundation``    ``cx``, ``cy`` [rad/(N m)]                  foundation tilt about base
-                                                              x and y, each its own
-``mass``          ``mass`` [kg]                               added at the centre of mass
-                                                              of the joint's child link
-``loadcell``      ``scale`` [-]                               the static file's forces read
-                                                              ``1 + scale`` times the true
-``reflector``     ``ox``, ``oy``, ``oz`` [m]                  the measured point sits off
-                                                              the TCP (tool frame)
-================  ==========================================  ============================
+==============  =============================================  ================================
+kind            parameters                                     model
+==============  =============================================  ================================
+``stiffness``   ``scale`` [-]                                  torsion compliance x scale
+``backlash``    ``width`` [rad]                                dead band
+``hardening``   ``extra`` [rad/(N m)], ``threshold`` [N m]     softer below the threshold
+``hysteresis``  ``lost`` [rad], ``radius`` [N m]               lost motion, rounded
+``tilt``        ``compliance`` [rad/(N m)]                     bearing tilt in series
+``base``        ``compliance`` [rad/(N m)]                     foundation tilt about x, y
+``wrist``       ``c45``, ``c46``, ``c56`` [rad/(N m)]          coupled wrist compliance
+``links``       ``compliance`` [-]                             link flexibility
+``tool``        ``cxx`` ... ``cyz`` [m/N]                      tool/adapter compliance, 3x3
+                                                               in the tool frame
+``balancer``    ``kc``, ``ks`` [N m/rad]                       gravity balancer: stiffness
+                                                               ``kc cos q + ks sin q`` in
+                                                               parallel with the gear
+``frame``       ``rx``, ``ry``, ``rz`` [rad], ``scale`` [-]    tracker frame misaligned:
+                                                               small rotation and scale
+``foundation``  ``cx``, ``cy`` [rad/(N m)]                     foundation tilt about base x
+                                                               and y, each its own
+``mass``        ``mass`` [kg]                                  added at the centre of mass
+                                                               of the joint's child link
+``loadcell``    ``scale`` [-]                                  the static file's forces read
+                                                               ``1 + scale`` times the true
+``reflector``   ``ox``, ``oy``, ``oz`` [m]                     the measured point sits off
+                                                               the TCP (tool frame)
+==============  =============================================  ================================
 
 :func:`parse_effect` reads the command-line form ``backlash:j2=0.1mrad``,
 ``hardening:j1=0.5,t=400Nm`` (``K1/K2 = 0.5`` below 400 N m), ``hysteresis:j2=0.1mrad,r=300Nm``,

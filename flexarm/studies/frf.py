@@ -39,7 +39,7 @@ class FrfReport:
     title: str = ""
 
     def peaks(self) -> list[tuple[str, float, float]]:
-        """Per direction x, y, z: (name, frequency [Hz], |H| [m/N]) of the largest peak."""
+        """Per direction x, y, z: (name, frequency [Hz], ``|H|`` [m/N]) of the largest peak."""
         out = []
         for d, name in enumerate(_XYZ):
             k = int(np.argmax(np.abs(self.H[:, d, d])))

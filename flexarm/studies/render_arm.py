@@ -143,7 +143,7 @@ def render_arm(fields: Sequence[LinkField], path=None, title: str = "",
                amplitude: float = 0.06, n_frames: int = 20, interactive: bool = False,
                window_size=(1024, 768), ellipsoid: TcpEllipsoid | tuple | None = None,
                ) -> Path | None:
-    """Draw the links deformed by their fields, coloured by |u| (largest = 1).
+    """Draw the links deformed by their fields, coloured by ``|u|`` (largest = 1).
 
     Parameters
     ----------

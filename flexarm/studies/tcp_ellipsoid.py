@@ -41,6 +41,7 @@ def compliance_ellipsoid(C: ArrayLike) -> tuple[FloatArray, FloatArray]:
 
 
 def polydata(points, faces):
+    """A PyVista surface of ``points`` (n, 3) [m] and triangle ``faces`` (m, 3)."""
     import pyvista as pv
 
     f = np.column_stack([np.full(len(faces), 3), faces]).ravel()

@@ -23,7 +23,7 @@ class Tolerances:
     #: Share of a candidate's signature the current model cannot mimic, below which it is
     #: aliased with the current model's parameters.
     alias_share: float = 0.05
-    #: |correlation| of two candidates' unique signatures above which they are aliased.
+    #: ``|correlation|`` of two candidates' unique signatures above which they are aliased.
     alias_correlation: float = 0.95
     #: Held-out RMS must fall below this fraction of the current model's held-out RMS.
     heldout_gain: float = 0.995

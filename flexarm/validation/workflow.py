@@ -76,7 +76,7 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
     -------
     Comparison, ModalComparison or FrfComparison
         By the kind of ``data`` (:func:`~.compare.compare_static`,
-        :func:`~.compare_dynamic.compare_modal`, :func:`~.compare_dynamic.compare_frf`);
+        :func:`~.dynamic.compare.compare_modal`, :func:`~.dynamic.compare.compare_frf`);
         each has ``text()`` and ``write(folder)``.
 
     Examples
@@ -162,7 +162,7 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
                   shape_noise_pct: float = 100 * SHAPE_NOISE, pose: str | None = None,
                   response: str | None = None) -> DiagnosisRun:
     """Diagnose which effects the E-model of ``robot`` misses in static ``data``
-    (:func:`~.diagnose.diagnose`).
+    (:func:`~.diagnosis.search.diagnose`).
 
     Parameters
     ----------

@@ -31,6 +31,7 @@ def meta_json(se: Superelement, checksum: str | None = None) -> str:
 
 
 def meta_from_json(text: str) -> dict:
+    """The metadata dict of a superelement file from its JSON text (lists back to arrays)."""
     d = json.loads(text)
     for k in ("interface_positions", "interface_frames", "node_positions", "freq_hz",
               "center_of_mass", "inertia"):

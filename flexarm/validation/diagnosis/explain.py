@@ -165,7 +165,7 @@ def span_corr(A: np.ndarray, B: np.ndarray) -> float:
 
 
 def signature_corr(A: np.ndarray, B: np.ndarray) -> float:
-    """|cos| of the angle between the first columns of two signatures (m, k)."""
+    """``|cos|`` of the angle between the first columns of two signatures (m, k)."""
     a, b = A.reshape(len(A), -1)[:, 0], B.reshape(len(B), -1)[:, 0]
     den = np.linalg.norm(a) * np.linalg.norm(b)
     return float(abs(a @ b) / den) if den > 0 else 0.0

@@ -220,7 +220,7 @@ def compare_shapes(arm: ArmModel, data: ShapeData, points: Points, effects=(),
     points : Points
         Where the measured nodes sit on the arm.
     effects, flexible
-        As for :func:`~.compare_dynamic.compare_modal`.
+        As for :func:`~.compare.compare_modal`.
     threshold : float
         MAC a pair needs.
 

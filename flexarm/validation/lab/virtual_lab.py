@@ -41,7 +41,7 @@ from ..tolerances import tol
 from .modal_lab import virtual_frfs, virtual_modal, virtual_shapes
 
 __all__ = ["virtual_lab", "write_lab", "LabFiles",
-           "LabResult", "run_lab", "lab_shapes"]
+           "LabResult", "run_lab", "lab_shapes", "lab_poses"]
 
 log = logging.getLogger(__name__)
 

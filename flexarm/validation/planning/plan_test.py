@@ -11,7 +11,7 @@ fitted to the data so far (GLS, :mod:`~flexarm.validation.static.fit`).
 Candidate series are poses drawn inside the joint limits (TCP at least
 ``min_height`` above the base) times the six axis load directions, each loaded over
 ``loads`` (and unloaded with ``cycles``).  With truth ``a``, the planned series alone
-give hypothesis ``b`` an expected excess chi-square (non-centrality)
+give hypothesis ``b`` an expected excess chi-square (non-centrality)::
 
     lambda_ab = min_delta |W (p_a - p_b) - S_b delta|^2 (+ prior),
 

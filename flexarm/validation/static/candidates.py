@@ -26,7 +26,8 @@ from ...robot.effects import Effect
 from ..tolerances import tol
 from .fit import FitResult, Problem
 
-__all__ = ["Candidate", "Screen", "library", "screen", "load_proposal"]
+__all__ = ["Candidate", "Screen", "library", "screen", "load_proposal", "scan_gain", "SCAN",
+           "SCANNED"]
 
 #: Typical sizes of amplitudes (signature scaling; untestable check).
 TYPICAL = {"width": 1e-4, "lost": 1e-4, "compliance_tilt": 2e-8, "compliance_base": 2e-8,

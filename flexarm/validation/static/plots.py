@@ -89,7 +89,7 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
 
 
 def torque_joints(tau: FloatArray) -> np.ndarray:
-    """Indices of the joints whose largest |torque| (n, n_joints) [N m] is at least
+    """Indices of the joints whose largest ``|torque|`` (n, n_joints) [N m] is at least
     :data:`TORQUE_SHARE` of the largest joint's.
 
     Examples

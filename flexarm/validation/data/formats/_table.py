@@ -32,8 +32,8 @@ from ..units import (
 )
 from ._lines import MeasurementFileError, column_texts, fields, records
 
-__all__ = ["MeasurementFileError", "Field", "Schema", "Table", "read_table", "write_table",
-           "table_frame", "label_problem", "joints", "vector"]
+__all__ = ["MeasurementFileError", "Field", "Schema", "Column", "Table", "read_table",
+           "write_table", "table_frame", "label_problem", "joints", "vector"]
 
 #: Largest magnitude [SI] a measured value of each quantity may have: beyond it the unit
 #: or the export is wrong (1e300 mm, a force in mN read as N), and the analysis would

@@ -111,6 +111,8 @@ def _ordinate(where: Where, i: int, dset: dict, response: str | None) -> int:
 
 
 def direction(where: Where, i: int, name: str, code) -> tuple[str, float]:
+    """(axis ``x``/``y``/``z``, sign) of a UFF direction code; anything but a translation
+    (a scalar channel, a rotation) is refused with the fix."""
     code = int(code)
     if abs(code) not in (1, 2, 3):
         what = "a scalar channel without an axis" if code == 0 else "a rotation"
