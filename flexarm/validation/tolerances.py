@@ -23,6 +23,9 @@ class Tolerances:
     #: Share of a candidate's signature the current model cannot mimic, below which it is
     #: aliased with the current model's parameters.
     alias_share: float = 0.05
+    #: Norm [-] (noise units, typical size) of a candidate's unique signature below which a
+    #: small unique share makes it aliased.
+    alias_unique_norm: float = 5.0
     #: ``|correlation|`` of two candidates' unique signatures above which they are aliased.
     alias_correlation: float = 0.95
     #: Held-out RMS must fall below this fraction of the current model's held-out RMS.

@@ -266,9 +266,9 @@ def test_progress_on_a_terminal_redraws_one_line_then_ends_plainly(monkeypatch):
 @pytest.mark.parametrize("command", ["modes", "compliance", "frf", "map", "chatter",
                                      "chatter-map", "circle", "show-arm"])
 def test_mass_defaults_to_the_cad_surfaces(command):
-    from flexarm.cli import _parser
+    from flexarm.cli import parser
 
-    sub = next(a for a in _parser()._subparsers._group_actions
+    sub = next(a for a in parser()._subparsers._group_actions
                if a.dest == "command").choices[command]
     assert sub.parse_args([]).mass == "surface"
 

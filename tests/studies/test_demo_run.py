@@ -181,10 +181,11 @@ def _csv(path: Path) -> list[dict]:
         return list(csv.DictReader(fh))
 
 
-def _readme_demo_section() -> str:
-    text = README.read_text()
-    return " ".join(text[text.index("## What the demo shows"):
-                         text.index("## Benchmarks")].split())
+def _readme_demo_section(page: Path = README) -> str:
+    text = page.read_text()
+    start = text.index("## What the demo shows")
+    end = text.find("\n## ", start + 1)
+    return " ".join(text[start:end if end > 0 else None].split())
 
 
 def _expected(out: Path) -> list[str]:
@@ -239,11 +240,13 @@ def _expected(out: Path) -> list[str]:
     return said
 
 
-def test_readme_quotes_the_demo_to_the_printed_digits(demo_figures):
+@pytest.mark.parametrize("page", [README, README.parent / "docs" / "getting_started.md"],
+                         ids=["readme", "getting_started"])
+def test_readme_quotes_the_demo_to_the_printed_digits(demo_figures, page):
     out, _ = demo_figures
-    section = _readme_demo_section()
+    section = _readme_demo_section(page)
     missing = [s for s in _expected(out) if " ".join(s.split()) not in section]
-    assert not missing, "README differs from the demo run:\n" + "\n".join(missing)
+    assert not missing, f"{page.name} differs from the demo run:\n" + "\n".join(missing)
 
 
 #: Columns that hold wall times: the only cells two runs may differ in.

@@ -185,7 +185,7 @@ def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()
     effects = list(getattr(problem, "start_effects", effects))
     if problem.noise_model != "shared":  # the trap demonstration keeps the joint library:
         # the measurement candidates read patterns only the GLS metric makes meaningful
-        exclude = tuple(exclude) + ("tool", "frame", "balancer")
+        exclude = tuple(exclude) + ("tool", "frame", "balancer", "reflector", "loadcell")
     cands = [c for c in library(problem) if c.name not in exclude and c.kind not in exclude]
     steps, accepted, ident = [], [], None
     label = "baseline"
@@ -252,10 +252,10 @@ def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, p
         if s.candidate.name not in refits:
             refits[s.candidate.name] = _refit_best(problem, fr, s, screens, free, scales,
                                                    prior, n_shape, version.rms_heldout, heldout,
-                                                   set(untrusted))
+                                                   vetoed)
         return refits[s.candidate.name]
 
-    seen = set()
+    seen, vetoed = set(), {}
     for s in testable:
         if len(seen) >= tol.max_refits:
             break
@@ -276,6 +276,8 @@ def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, p
         if best is None:
             best, refit = s, r
         failed = r.winner.checks.failed
+        # a refitted candidate is weighed as a proxy of another by its refit, not its screen
+        vetoed[s.candidate.name] = -np.inf if failed else r.winner.dbic
         if {"trusted", "distinct", "clean"} & set(failed):
             untrusted[s.candidate.name] = (r, failed)
             continue
@@ -301,10 +303,11 @@ def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, p
 
 
 def _refit_best(problem: Problem, fr, best: Screen, screens, free, scales, prior,
-                n_shape: int, cur_ho: float, heldout: bool, vetoed=()) -> _Refit:
+                n_shape: int, cur_ho: float, heldout: bool, vetoed=None) -> _Refit:
     """Refit the best testable candidate with the current model and check it for
     acceptance (module docstring, step 5)."""
     c = best.candidate
+    vetoed = {} if vetoed is None else vetoed
     fr2, free2, scales2, keep, grid_sd = _refit(problem, fr, free, scales, prior, best, n_shape)
     same = [i for i in shaped(fr2.effects, arm_joints(problem), c.joint)
             if i < len(fr2.effects) - 1] if c.joint is not None else []
@@ -341,10 +344,10 @@ def _refit_best(problem: Problem, fr, best: Screen, screens, free, scales, prior
                 and s.dchi2 > best.dchi2 and s.candidate.n_params < c.n_params
                 and span_corr(s.columns, best.columns) > tol.proxy_correlation]
     # the simpler candidate a richer one contains is weighed by refits, not as a proxy
-    # (and one whose own refit already failed on trust or on a fault it leaves is no
-    # better explanation)
+    # (and one whose own refit failed its checks, or explained less, is no better
+    # explanation: ``vetoed`` maps it to its refit's dBIC, -inf when it failed)
     proxies = [s for s in proxies if NESTED.get(c.name) != s.candidate.name
-               and s.candidate.name not in vetoed]
+               and not vetoed.get(s.candidate.name, np.inf) < dbic]
     checks = Checks(dbic=bool(dbic > tol.delta_bic_accept),
                     heldout=bool(new_ho < tol.heldout_gain * cur_ho) if heldout else True,
                     plausible=plausible(problem, fr2.effects[-1], keep),

@@ -234,11 +234,18 @@ class ModalProblem(Problem):
         self.modal_pose = inv.ravel()
         self._pairings: dict = {}
         self._batch = (None, None)
-        self.start_effects = static_start(Problem(arm, data, sigma, noise_model, flexible))
+        #: The static data alone, as a problem of their own (starts of nonlinear fits).
+        self.static_problem = Problem(arm, data, sigma, noise_model, flexible)
+        self.start_effects = static_start(self.static_problem)
         self.unmatched = tuple(self.lonely_lines(self.start_effects))
         if self.unmatched:
             log.info("%d measured mode(s) without a partner in the starting model: %s",
                      len(self.unmatched), "; ".join(self.unmatched))
+
+    def discount(self, rows) -> None:
+        super().discount(rows)
+        if hasattr(self, "static_problem"):
+            self.static_problem.discount(rows)
 
     # ----- pairing
     def pose_terms(self, arm: ArmModel, p: int, r: np.ndarray) -> dict:

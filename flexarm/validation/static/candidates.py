@@ -152,6 +152,7 @@ class Screen:
     dbic: float
     columns: np.ndarray  # whitened, unit amplitude, projected off the current model
     start: tuple = ()
+    modal: bool = False  # the data hold vibration data besides the static series
 
 
 #: Multiples of a candidate's typical amplitudes the nonlinear scan tries.
@@ -159,7 +160,10 @@ SCAN = (0.1, 0.3, 1.0, 3.0, 10.0, 30.0)
 #: Kinds whose amplitudes all lie above zero and change the arm's modes: with vibration
 #: data a measured mode may pair only once their amplitude is large enough, which the
 #: linearised score test cannot see.
-SCANNED = ("tilt", "base", "foundation", "mass", "links")
+SCANNED = ("tilt", "base", "foundation", "mass", "links", "wrist")
+#: Scanned kinds whose amplitudes take either sign (a coupling of compliances moves the
+#: frequencies only to second order at zero, so the score test cannot see its sign).
+SIGNED = ("wrist",)
 
 
 def scan_gain(problem: Problem, fit: FitResult, cand: Candidate, grid_value: float
@@ -176,6 +180,8 @@ def scan_gain(problem: Problem, fit: FitResult, cand: Candidate, grid_value: flo
     # every amplitude on its own, and all together
     patterns = [np.eye(len(sizes))[i] for i in range(len(sizes))]
     patterns += [np.ones(len(sizes))] if len(sizes) > 1 else []
+    if cand.kind in SIGNED:
+        patterns += [-p for p in patterns]
     for k, pattern in ((k, p) for p in patterns for k in SCAN):
         amps = k * sizes * pattern
         f, _ = try_wpredict(problem, list(fit.effects) + [cand.effect(grid_value, amps)])
@@ -219,14 +225,24 @@ def screen(problem: Problem, fit: FitResult, cand: Candidate) -> Screen:
         scanned, start = scan_gain(problem, fit, cand, g)
         gain = max(gain, scanned)
     dbic = gain - cand.n_params * np.log(fit.n_obs)
-    return Screen(cand, g, norm, unique, gain, dbic, R, start)
+    return Screen(cand, g, norm, unique, gain, dbic, R, start,
+                  bool(getattr(problem, "n_modal", 0)))
 
 
 def status_of(s: Screen) -> str | None:
-    """'untestable' / 'aliased' from the screening alone, or None (testable)."""
+    """'untestable' / 'aliased' from the screening alone, or None (testable).
+
+    Aliased: a small share of the signature is unique.  With vibration data a signature
+    may be large in the frequencies, which the model's stiffnesses mimic, while its static
+    part, which they do not, is what the data show: there a candidate stays testable when
+    its unique part is large in noise units (``tol.alias_unique_norm``) or the residual
+    projects on it enough to be accepted (``tol.delta_bic_accept``), and its refit's checks
+    (trust, intervals) judge it."""
     if s.norm < tol.untestable_norm:
         return "untestable"
-    if s.unique < tol.alias_share:
+    if s.unique < tol.alias_share and not (
+            s.modal and (np.sqrt(s.unique) * s.norm >= tol.alias_unique_norm
+                         or s.dbic >= tol.delta_bic_accept)):
         return "aliased"
     return None
 

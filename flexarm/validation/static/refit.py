@@ -18,8 +18,9 @@ __all__ = ["physical_refit", "shape_marginal"]
 def physical_refit(problem: Problem, fr, free, scales, prior, best: Screen, n_shape: int = 0):
     """Physical refit of a candidate with the current model: amplitudes the data can see
     (whitened norm at typical size >= ``tol.untestable_norm``) are free, the others stay
-    0; they start from the best amplitudes of the screen's nonlinear scan (zero without
-    one); the shape parameter (if any) is optimised around its best grid value and counted
+    0; they start from zero, from the best amplitudes of the screen's nonlinear scan and,
+    with vibration data, from the static data's own fit; the best of those fits wins; the
+    shape parameter (if any) is optimised around its best grid value and counted
     in the degrees of freedom (with the ``n_shape`` of the current model).
 
     Returns the fit, its free parameters and scales, the amplitudes kept and the standard
@@ -41,9 +42,17 @@ def physical_refit(problem: Problem, fr, free, scales, prior, best: Screen, n_sh
     if best.start:  # the nonlinear scan's amplitudes too: the better of the two fits wins
         starts.append(np.asarray(best.start, float))
 
-    def run(g, iterations=3):
+    # frequencies and mode pairings bend the chi-square: Gauss-Newton needs more steps
+    steps = 8 if getattr(problem, "n_modal", 0) else 3
+
+    def run(g, iterations=steps):
         fits = [fit_model(problem, list(fr.effects) + [c.effect(g, a)], free2, scales2, prior,
                           iterations=iterations, n_shape=n_shape2) for a in starts]
+        static = getattr(problem, "static_problem", None)
+        if static is not None:  # and from the static data's own fit of the candidate
+            fs = fit_model(static, list(fr.effects) + [c.effect(g)], free2, scales2, prior)
+            fits.append(fit_model(problem, fs.effects, free2, scales2, prior,
+                                  iterations=iterations, n_shape=n_shape2))
         return min(fits, key=lambda f: f.chi2)
 
     g = best.grid_value

@@ -82,7 +82,8 @@ def as_written(x):
 
 @pytest.mark.parametrize("mm", [False, True])
 def test_pyuff_written_set_gives_analytic_frf_and_shapes(tmp_path, mm):
-    content = read_uff(pyuff_set(tmp_path / "three.uff", accel_node=2, mm=mm))
+    content = read_uff(pyuff_set(tmp_path / "three.uff", accel_node=2, mm=mm), "rig",
+                       np.zeros(6))
     frf, = content.frfs
     assert np.array_equal(frf.freq_hz, FREQ)
     assert frf.in_dirs.tolist() == ["y"] * 6 and frf.out_dirs.tolist() == ["y"] * 6
@@ -119,7 +120,7 @@ def test_shapes_of_an_analytic_system_to_1e12(tmp_path):
                                      node_nums=[1, 2, 3], modal_damp_vis=ZETA))
     path = tmp_path / "chain.uff"
     pyuff.UFF(str(path)).write_sets(sets, mode="overwrite")
-    s = read_uff(path).shapes
+    s = read_uff(path, "rig", np.zeros(6)).shapes
     analytic = np.array([[1.0, 1.0, 1.0], [1.0, 0.0, -1.0], [-0.5, 1.0, -0.5]])
     signs = np.sign(s.shapes[:, 0])[:, None] * np.sign(analytic[:, 0])[:, None]
     assert np.max(np.abs(s.shapes * signs - analytic)) < 1e-12

@@ -244,8 +244,8 @@ def test_11_shared_reference_false_hit(demo, lab):
     """Reference readings with a larger error than the others (tracker re-lock, 45 um,
     stated in the file's sigma column), series of 5 readings: the naive analysis (the
     same code with the covariance replaced by sigma^2 I) accepts a false effect (4 of
-    seeds 0-7; seeds 1, 2 here); ours accepts nothing and chi^2_red is in band (8 of 8)."""
-    for seed in (1, 2):
+    seeds 0-7; seeds 0, 1 here); ours accepts nothing and chi^2_red is in band (8 of 8)."""
+    for seed in (0, 1):
         data = lab(seed=seed, loads="0:800:200", ref_noise=45e-6)
         naive = diagnose(demo[1], data, noise_model="independent", max_effects=0)
         ours = diagnose(demo[1], data, max_effects=0)

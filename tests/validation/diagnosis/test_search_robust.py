@@ -143,7 +143,7 @@ def _never_raises(demo, lab, case):
     assert dg.text()
 
 
-@settings(max_examples=6, deadline=None, derandomize=True,
+@settings(max_examples=3, deadline=None, derandomize=True,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(case=lab_case())
 def test_random_data_and_candidates_never_end_a_run_with_an_exception(demo, lab, case):
