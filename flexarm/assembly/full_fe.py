@@ -293,12 +293,16 @@ class FullFEResult:
         Independent coordinates of the full model.
     seconds : dict
         Wall times [s] of assembly, factorisation, compliance and eigen-solve.
+    tcp_shapes : (6, n) float, optional
+        TCP motion of each mode (base frame) [m, rad], in the order of ``freq_hz``: what
+        pairs these modes with another model's by MAC.
     """
 
     freq_hz: FloatArray
     C: FloatArray
     n_dofs: int
     seconds: dict
+    tcp_shapes: FloatArray | None = None
 
 
 def full_fe_analysis(arm: ArmModel, bodies: tuple[SparseBody, ...], q: ArrayLike,
@@ -315,6 +319,7 @@ def full_fe_analysis(arm: ArmModel, bodies: tuple[SparseBody, ...], q: ArrayLike
     md = fe_modes(mdl.K, mdl.M, n_modes, eigensolver=shift_invert(0.0, backend), factor=f)
     t4 = time.perf_counter()
     log.info("full FE: %d DOF, %d modes in %.1f s", mdl.n_dofs, n_modes, t4 - t0)
-    return FullFEResult(np.sort(md.freq_hz), 0.5 * (C + C.T), mdl.n_dofs,
+    order = np.argsort(md.freq_hz)
+    return FullFEResult(md.freq_hz[order], 0.5 * (C + C.T), mdl.n_dofs,
                         {"assemble": t1 - t0, "factorise": t2 - t1, "compliance": t3 - t2,
-                         "eigen": t4 - t3})
+                         "eigen": t4 - t3}, (Gt.T @ md.vectors)[:, order])

@@ -57,6 +57,9 @@ class JointSpaceMap:
         Model name for titles (``"E-model"``, ``"CB"``...).
     pose_name : str
         Name of the pose the map varies (its other joints are ``q_fixed``).
+    collides : (na, nb) bool or None
+        Grid poses the robot cannot take: links collide or touch the floor
+        (:class:`~flexarm.robot.collision.CollisionChecker`; None: not checked).
     """
 
     joints: tuple
@@ -68,6 +71,15 @@ class JointSpaceMap:
     condition: FloatArray | None = None
     label: str = ""
     pose_name: str = ""
+    collides: np.ndarray | None = None
+
+    @property
+    def is_masked(self) -> np.ndarray:
+        """(na, nb) bool: grid poses left out of the stiffest poses and greyed in the
+        plots: near a singularity, or colliding."""
+        if self.collides is None:
+            return self.is_singular
+        return self.is_singular | self.collides
 
     @property
     def is_singular(self) -> np.ndarray:
@@ -108,6 +120,10 @@ class JointSpaceMap:
             lines.append(f"{n_sing} of {self.is_singular.size} grid poses lie near a kinematic "
                          f"singularity (TCP Jacobian condition number > "
                          f"{SINGULAR_CONDITION:g}): excluded from the stiffest poses")
+        if self.collides is not None and self.collides.any():
+            lines.append(f"{int(self.collides.sum())} of {self.collides.size} grid poses "
+                         "collide (links with each other or the floor): excluded from the "
+                         "stiffest poses")
         for d, (a, b, k) in stiffest(self).items():
             lines.append(f"stiffest in {d}: q{self.joints[0] + 1}={np.degrees(a):7.1f} deg "
                          f"q{self.joints[1] + 1}={np.degrees(b):7.1f} deg "
@@ -214,9 +230,9 @@ def limits_map(arm: ArmModel, q_fixed: ArrayLike, lower: ArrayLike, upper: Array
 
 def stiffest(m: JointSpaceMap) -> dict:
     """Per direction, the stiffest grid configuration away from kinematic singularities
-    (:attr:`JointSpaceMap.is_singular`): ``{"x": (a, b, K) ...}`` [rad, N/m]."""
+    and collisions (:attr:`JointSpaceMap.is_masked`): ``{"x": (a, b, K) ...}`` [rad, N/m]."""
     out = {}
-    ok = ~m.is_singular if not m.is_singular.all() else np.ones(m.is_singular.shape, bool)
+    ok = ~m.is_masked if not m.is_masked.all() else np.ones(m.is_masked.shape, bool)
     for d, name in enumerate(DIRECTIONS):
         K = np.where(ok, m.stiffness[..., d], -np.inf)
         i, j = np.unravel_index(np.argmax(K), K.shape)
@@ -236,6 +252,9 @@ def write_csv(path, m: JointSpaceMap) -> Path:
     if m.condition is not None:
         cols += ["jacobian_cond", "near_singular"]
         data += [m.condition.ravel(), m.is_singular.ravel().astype(float)]
+    if m.collides is not None:
+        cols.append("collides")
+        data.append(m.collides.ravel().astype(float))
     lines = [",".join(cols)]
     lines += [",".join(f"{v:.10g}" for v in row) for row in np.column_stack(data)]
     path = Path(path)
@@ -249,7 +268,7 @@ def _heat(ax, m: JointSpaceMap, Z: FloatArray, is_log: bool):
     from matplotlib.colors import LogNorm
 
     A, B = np.meshgrid(np.degrees(m.a), np.degrees(m.b), indexing="ij")
-    Zm = np.ma.masked_where(m.is_singular | ~np.isfinite(Z), Z)
+    Zm = np.ma.masked_where(m.is_masked | ~np.isfinite(Z), Z)
     cmap = pyplot().get_cmap("viridis").with_extremes(bad="0.75")
     norm = LogNorm(vmin=Zm.min(), vmax=Zm.max()) if is_log and Zm.count() else None
     pc = ax.pcolormesh(B, A, Zm, shading="auto", cmap=cmap, norm=norm)
@@ -261,6 +280,10 @@ def _heat(ax, m: JointSpaceMap, Z: FloatArray, is_log: bool):
 
         handles.append(Patch(facecolor="0.75", label=f"near-singular (cond J > "
                                                      f"{SINGULAR_CONDITION:g}), masked"))
+    if m.collides is not None and m.collides.any():
+        from matplotlib.patches import Patch
+
+        handles.append(Patch(facecolor="0.75", label="colliding, masked"))
     ax.legend(handles=handles, fontsize=7, loc="upper right")
     return pc
 
@@ -300,13 +323,15 @@ def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
             continue
         fig = plt.figure(figsize=(6, 4.5))
         ax3 = fig.add_subplot(projection="3d")
-        Zs = np.where(m.is_singular, np.nan, Z)
+        Zs = np.where(m.is_masked, np.nan, Z)
         ax3.plot_surface(B, A, np.log10(Zs) if is_log else Zs, cmap="viridis")
         ax3.set_xlabel(f"q{jb} [deg]")
         ax3.set_ylabel(f"q{ja} [deg]")
         ax3.set_zlabel(f"log10 {name} [{unit}]" if is_log else f"{name} [{unit}]")
-        ax3.set_title(m.title(name) + (" (near-singular poses left out)"
-                                       if m.is_singular.any() else ""), fontsize=9)
+        what = ("near-singular or colliding" if m.collides is not None and m.collides.any()
+                else "near-singular")
+        ax3.set_title(m.title(name) + (f" ({what} poses left out)"
+                                       if m.is_masked.any() else ""), fontsize=9)
         p3 = folder / f"map_{name}_surface.png"
         fig.savefig(p3, dpi=100)
         plt.close(fig)
@@ -317,8 +342,9 @@ def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
 def write_ratio(flex: JointSpaceMap, rigid: JointSpaceMap, folder) -> list[Path]:
     """How much the flexible links soften the arm: ``K_flex / K_rigid`` per direction on
     the common grid, as ``map_ratio.csv`` (``q<a>_deg, q<b>_deg, kxx_ratio, kyy_ratio,
-    kzz_ratio, near_singular``) and ``map_ratio_K<d><d>_heat.png`` (the same numbers;
-    near-singular poses masked) in ``folder``."""
+    kzz_ratio, near_singular`` and ``collides`` when the flexible map has it) and
+    ``map_ratio_K<d><d>_heat.png`` (the same numbers; near-singular and colliding poses
+    masked) in ``folder``."""
     if flex.stiffness.shape != rigid.stiffness.shape or not (
             np.array_equal(flex.a, rigid.a) and np.array_equal(flex.b, rigid.b)):
         raise ValueError("the two maps must share their grid")
@@ -331,10 +357,14 @@ def write_ratio(flex: JointSpaceMap, rigid: JointSpaceMap, folder) -> list[Path]
     A, B = np.meshgrid(np.degrees(flex.a), np.degrees(flex.b), indexing="ij")
     cols = [A.ravel(), B.ravel()] + [R[..., d].ravel() for d in range(3)]
     cols.append(flex.is_singular.ravel().astype(float))
+    header = f"q{ja}_deg,q{jb}_deg,kxx_ratio,kyy_ratio,kzz_ratio,near_singular"
+    if flex.collides is not None:
+        cols.append(flex.collides.ravel().astype(float))
+        header += ",collides"
     csv = folder / "map_ratio.csv"
     with atomic_path(csv) as tmp:
         np.savetxt(tmp, np.column_stack(cols), delimiter=",", comments="", fmt="%.10g",
-                   header=f"q{ja}_deg,q{jb}_deg,kxx_ratio,kyy_ratio,kzz_ratio,near_singular")
+                   header=header)
     out = [csv]
     for i, d in enumerate(DIRECTIONS):
         fig, ax = plt.subplots(figsize=(6, 4.5))

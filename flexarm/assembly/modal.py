@@ -84,11 +84,25 @@ class Modes:
 
     def text(self, joint_names, n: int = 24) -> str:
         """Table of the first ``n`` modes: frequency [Hz], damping ratio and the energy
-        share per joint; a last line says how many more there are."""
+        share per joint (each column as wide as its joint's full name); a last line says
+        how many more there are.
+
+        Examples
+        --------
+        >>> m = Modes(np.array([7.5]), np.eye(3, 1), np.zeros((6, 1)), np.array([0.02]),
+        ...           np.array([[0.75], [0.25]]), ["a", "b"])
+        >>> print(m.text(["shoulder_pan_joint", "j2"]))
+        mode    freq_Hz    zeta  shoulder_pan_joint      j2
+           1      7.500  0.0200               0.750   0.250
+        """
+        names = list(joint_names)
+        widths = [max(7, len(name)) for name in names]
+        widths += [7] * (len(self.energy) - len(widths))  # shares of unnamed springs
         lines = [f"{'mode':>4s} {'freq_Hz':>10s} {'zeta':>7s}  "
-                 + " ".join(f"{name[-7:]:>7s}" for name in joint_names)]
+                 + " ".join(f"{name:>{w}s}" for name, w in zip(names, widths, strict=False))]
         for r, f in enumerate(self.freq_hz[:n]):
-            shares = " ".join(f"{e:7.3f}" for e in self.energy[:, r])
+            shares = " ".join(f"{e:{w}.3f}"
+                              for e, w in zip(self.energy[:, r], widths, strict=False))
             lines.append(f"{r + 1:4d} {f:10.3f} {self.damping[r]:7.4f}  {shares}")
         if len(self.freq_hz) > n:
             lines.append(f"... {len(self.freq_hz) - n} more modes up to "

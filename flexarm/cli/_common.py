@@ -14,6 +14,7 @@ import argparse
 import sys
 import threading
 import time
+import warnings
 from collections.abc import Callable, Iterable
 
 __all__ = ["COMMANDS", "command", "out", "say", "set_quiet", "wrote", "Progress",
@@ -195,9 +196,16 @@ def pose_from(robot, args):
         if args.pose is None:
             args.pose = ",".join("0" for _ in robot.joints)
     try:  # joint limits and angle counts are checked there; the option is named here
-        return pose_from_string(robot, args.pose)
+        q = pose_from_string(robot, args.pose)
     except ValueError as exc:
         raise ValueError(f"--pose: {exc}") from None
+    from ..robot.collision import pose_note
+
+    note = pose_note(robot, q)
+    if note:  # the analysis still runs: a model can be asked about any pose
+        warnings.warn(f"--pose {args.pose}: the robot cannot take this pose ({note})",
+                      stacklevel=2)
+    return q
 
 
 def floats(text: str, what: str = "value") -> list[float]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import warnings
 
@@ -31,29 +32,44 @@ def _add_import_urdf(p: argparse.ArgumentParser) -> None:
                         "than scaling the density of a solid hull)")
     p.add_argument("--no-regions", action="store_true",
                    help="do not look for the bearing seats on the link CAD")
+    p.add_argument("--seat", action="append", default=[],
+                   metavar="LINK:JOINT=cx,cy,cz,ax,ay,az,r_min,r_max,w",
+                   help="a bearing seat given by hand (repeatable): the cylinder about the "
+                        "axis (ax,ay,az) through (cx,cy,cz), radii r_min..r_max, half width "
+                        "w along the axis (metres, link frame); it replaces what the finder "
+                        "would write, and the other link's seat is paired with it")
 
 
 @command("import-urdf", "write a robot TOML from a URDF (origins, axes, limits, meshes, tool "
          "frame; placeholder joint stiffness)", _add_import_urdf)
 def _run_import_urdf(args) -> int:
     from ..robot.formats import write
+    from ..robot.seat_review import parse_seat
     from ..studies.import_urdf import derived_meshes_dir, import_urdf
+    from ..studies.seat_check import build_problems
 
     wall = args.wall if args.wall in (None, "auto") else floats(args.wall, "--wall")[0]
+    seats = [parse_seat(text) for text in args.seat]  # a bad one fails before any work
     imported = import_urdf(args.urdf, args.meshes, args.total_mass,
                            derived_dir=derived_meshes_dir(args.output), wall=wall,
-                           regions=not args.no_regions)
+                           regions=not args.no_regions, seats=seats)
     write(args.output, imported.robot)
     out(f"wrote {args.output}: {imported.summary()}")
     for line in imported.report(args.output):
         out(line)
+    problems = () if args.no_regions else build_problems(imported.robot)
+    if problems:  # the file stays, to be fixed; the exit code says it cannot be built yet
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        raise ValueError(f"{args.output} cannot be built: {problems[0]}{more}; give the "
+                         f"seat with --seat LINK:JOINT=cx,cy,cz,ax,ay,az,r_min,r_max,w")
     return 0
 
 
 # --- modes -----------------------------------------------------------------------------
 def _add_modes(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS)
-    p.add_argument("-n", "--n-modes", type=int, default=24, help="modes to list")
+    p.add_argument("-n", "--n-modes", type=int, default=None,
+                   help="modes to list (default 24, or all the model has)")
     p.add_argument("-o", "--output", default=None, help="folder for mode_energy.csv and .png")
 
 
@@ -62,16 +78,17 @@ def _run_modes(args) -> int:
     from ..assembly.analyses import modes
     from ..studies.plots import write_mode_energy
 
-    if args.n_modes < 1:
+    if args.n_modes is not None and args.n_modes < 1:
         raise ValueError(f"--n-modes: list at least 1 mode, got {args.n_modes}")
     robot = robot_from(args)
     q = pose_from(robot, args)  # a bad pose fails before any meshing
     arm = arm_from(args, robot)
     md = modes(arm.model, q)
-    if args.n_modes > md.freq_hz.size:
+    # only a count the user asked for is worth a warning: the default lists what there is
+    if args.n_modes is not None and args.n_modes > md.freq_hz.size:
         warnings.warn(f"--n-modes {args.n_modes}: the {arm.spec.label} arm has only "
                       f"{md.freq_hz.size} modes; listing all {md.freq_hz.size}", stacklevel=1)
-    out(md.text(arm.robot.joint_names, args.n_modes))
+    out(md.text(arm.robot.joint_names, 24 if args.n_modes is None else args.n_modes))
     if args.output:
         wrote(write_mode_energy(args.output, md.freq_hz, md.energy, arm.robot.joint_names,
                                 f"{arm.spec.label} strain energy per joint at {args.pose}"))
@@ -123,6 +140,14 @@ def _run_frf(args) -> int:
 
 
 # --- map -------------------------------------------------------------------------------
+def _grid_collisions(robot, m):
+    """(na, nb) bool: the map's grid poses where links collide or touch the floor."""
+    from ..assembly.maps import grid_poses
+    from ..robot.collision import CollisionChecker
+
+    return CollisionChecker(robot).colliding(grid_poses(m.q_fixed, m.joints, m.a, m.b))
+
+
 def _add_map(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MAP_MODELS)
     p.add_argument("--n", type=int, default=60, help="grid points per joint")
@@ -143,6 +168,7 @@ def _run_map(args) -> int:
     m = limits_map(arm.model, q, arm.robot.lower, arm.robot.upper,
                    args.n, frequencies=not args.no_frequencies, label=arm.spec.label,
                    pose_name=args.pose)
+    m = dataclasses.replace(m, collides=_grid_collisions(arm.robot, m))
     out(m.summary())
     if args.output:
         wrote([write_csv(os.path.join(args.output, "map.csv"), m)])

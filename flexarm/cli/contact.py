@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
 from ._common import (
     add_robot_args,
@@ -114,6 +115,16 @@ def _run_chatter_map(args) -> int:
     arm = arm_from(args, robot)
     cm = chatter_limits_map(arm.model, q, arm.robot.lower,
                             arm.robot.upper, args.n, args.dir, args.normal)
+    from ..assembly.maps import grid_poses
+    from ..robot.collision import CollisionChecker
+
+    # a pose the robot cannot take is never recommended, like one at a joint limit
+    hits = CollisionChecker(arm.robot).colliding(grid_poses(cm.q_fixed, (1, 2), cm.q2, cm.q3))
+    if hits.any():
+        out(f"{int(hits.sum())} of {hits.size} grid poses collide (links with each other or "
+            "the floor): never recommended")
+        excluded = hits if cm.is_excluded is None else cm.is_excluded | hits
+        cm = dataclasses.replace(cm, is_excluded=excluded)
     out(cm.text())
     if args.output:
         wrote(write_chatter_map(args.output, cm, f"{arm.spec.label} at {args.pose}"))

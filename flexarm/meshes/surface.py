@@ -22,6 +22,8 @@ from .tolerances import tol
 __all__ = ["load_surface", "SURFACE_EXTENSIONS"]
 
 logger = logging.getLogger(__name__)
+#: Cache keys of the filled-hole notes this process has logged.
+_SAID: set[str] = set()
 
 #: Surface file types :func:`load_surface` reads.
 SURFACE_EXTENSIONS = (".stl", ".obj", ".ply", ".dae")
@@ -155,9 +157,7 @@ def load_surface(path: PathType, units: str = "m", repair: bool = True) -> trime
     if repair:
         mesh, notes = repair_surface(mesh, name)
         for note in notes:
-            # a filled hole changes the geometry: say so; the rest is bookkeeping
-            (logger.warning if note.startswith("filled holes") else logger.info)(
-                "%s: %s", name, note)
+            _log_repair(path, units, note)
     else:
         mesh.merge_vertices(merge_tex=True, merge_norm=True, digits_vertex=merge_digits())
     check_surface(mesh, name, repaired=repair)
@@ -169,3 +169,20 @@ def load_surface(path: PathType, units: str = "m", repair: bool = True) -> trime
         mesh.volume,
     )
     return mesh
+
+
+def _log_repair(path: Path, units: str, note: str) -> None:
+    """Log what the repair did to ``path``: a filled hole changes the geometry, so it is
+    a warning, but only the first time this file's content is read (by this process or
+    an earlier command: the cache remembers it), since every command that meshes or
+    measures the link reads it again; the rest is bookkeeping (info)."""
+    if not note.startswith("filled holes"):
+        logger.info("%s: %s", path, note)
+        return
+    from ..fe.cache import cache_key, cached
+    from ..fe.files import file_digest
+
+    key = cache_key("surface-note", str(path.resolve()), file_digest(path), units, note)
+    said = key in _SAID or cached("surface-notes", key, lambda: True).is_hit
+    _SAID.add(key)
+    (logger.info if said else logger.warning)("%s: %s", path, note)

@@ -28,14 +28,24 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..fe.typing import FloatArray
+from ..reduction.tolerances import tol as red_tol
 from .description import Region, Robot
 from .kinematics import rpy_matrix
-from .seat_geometry import EndSeat, Polar, Rings, SeatFinder, SeatNotFound, coupling_rank
+from .seat_geometry import (
+    NODE_AREA,
+    EndSeat,
+    Polar,
+    Rings,
+    SeatFinder,
+    SeatNotFound,
+    coupling_rank,
+)
 from .seat_sample import SurfaceSample
 from .tolerances import tol
 
 __all__ = ["SEAT_FRACTION", "SeatAxis", "check_seat", "find_region", "find_seat",
-           "first_joint", "joint_axes", "other_sample", "suggestion", "tcp_axis"]
+           "first_joint", "joint_axes", "other_sample", "suggested_region", "suggestion",
+           "tcp_axis"]
 
 #: Seat disc radius as a share of the end face's radius (a bearing sits inside the rim).
 SEAT_FRACTION = 0.7
@@ -204,17 +214,35 @@ def find_seat(robot: Robot, ax: SeatAxis, samples: dict, mesh_size: float, grow:
     return reg, mask, sides
 
 
-def suggestion(ax: SeatAxis, sample: SurfaceSample) -> str:
-    """``[links.regions.<joint>]`` values about the surface nearest the joint origin."""
+def suggested_region(ax: SeatAxis, sample: SurfaceSample,
+                     mesh_size: float | None = None) -> Region:
+    """A region to start from about the surface nearest the joint origin (link frame):
+    the 200 sample points nearest it, or with ``mesh_size`` [m] as many as a tet mesh
+    of that edge needs to put ``tol.seat_mesh_nodes_factor`` x the rank-6 minimum of
+    nodes on them."""
     p = Polar.of(sample.points, sample.normals, ax.origin, ax.axis)
-    near = np.argsort(p.r + np.abs(p.t))[:200]
-    a = np.asarray(ax.axis)
-    c = np.asarray(ax.origin) + a * float(np.median(p.t[near]))
+    k = 200
+    if mesh_size is not None:
+        edge = min(mesh_size, sample.diagonal / 8.0)  # as SeatFinder.n_mesh counts
+        need = tol.seat_mesh_nodes_factor * red_tol.min_region_nodes * NODE_AREA * edge**2
+        k = max(k, int(np.ceil(need / sample.weight)))
+    near = np.argsort(p.r + np.abs(p.t))[:k]
+    a = np.asarray(ax.axis, dtype=float)
+    # the middle of their axial range, so that the slab holds them all
+    c = np.asarray(ax.origin, dtype=float) + a * 0.5 * float(p.t[near].min() + p.t[near].max())
     r = max(float(np.percentile(p.r[near], 90)), 0.05 * sample.diagonal)
     hw = max(0.5 * float(np.ptp(p.t[near])), 0.01 * sample.diagonal)
+    return Region(tuple(float(v) for v in c), tuple(float(v) for v in a), 0.0, float(r),
+                  float(hw))
+
+
+def suggestion(ax: SeatAxis, sample: SurfaceSample) -> str:
+    """``[links.regions.<joint>]`` values of :func:`suggested_region`."""
+    reg = suggested_region(ax, sample)
 
     def vec(v):
         return "[" + ", ".join(f"{x:.4g}" for x in v) + "]"
 
-    return (f"start from [links.regions.{ax.name}] center = {vec(c)}, axis = {vec(a)}, "
-            f"r_min = 0.0, r_max = {r:.3g}, half_width = {hw:.3g} (metres, link frame)")
+    return (f"start from [links.regions.{ax.name}] center = {vec(reg.center)}, axis = "
+            f"{vec(reg.axis)}, r_min = 0.0, r_max = {reg.r_max:.3g}, half_width = "
+            f"{reg.half_width:.3g} (metres, link frame)")

@@ -45,12 +45,20 @@ with the other link ``O``'s sample moved into ``L``'s frame at zero joint angle:
    two-sided seat that takes other surface falls back to the end nearer the joint origin;
    an end face that is no seat (a sliver of hull along the axis) to a bore further in.
 
+5. **Pairs.**  The two seats of a joint must face each other: where their surfaces'
+   centroids lie more than 5 mm apart along the axis (convex hulls that overlap), one is
+   kept and the other link's band of surface at the same station replaces the other
+   (:mod:`~flexarm.robot.seat_facing`); a seat found on one link only gets its partner
+   the same way.  :mod:`~flexarm.robot.seat_pairs` measures every pair.
+
 Optionally the TCP link gets a ``"tcp"`` region -- its flange face: the end opposite its
 proximal seat along that joint's axis, outside any seat that reaches it; coupling
 ``rbe3`` as in the demo arm, so the tool load spreads without stiffening the flange -- and
 the base a ``"base"`` region: its foundation, the flat face at the end of the base
 opposite the first joint's seat.  These two are skipped with a warning when not found; a
-joint seat that cannot be found raises ``ValueError`` with a region to start from.
+joint seat that cannot be found raises ``ValueError`` with a region to start from
+(:func:`detect_regions`), or gets that region written for review while every other seat
+is still found (:func:`find_seats`, :mod:`~flexarm.robot.seat_review`).
 
 The tolerances are in :mod:`flexarm.robot.tolerances`.  The parts live in their own
 modules and are re-exported here: the CAD sample in :mod:`~flexarm.robot.seat_sample`,
@@ -62,12 +70,14 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..reduction.tolerances import tol as red_tol
 from .description import Link, Region, Robot
 from .kinematics import rpy_matrix
+from .seat_facing import face_each_other
 from .seat_geometry import Polar, Rings, SeatFinder, SeatNotFound, seat_margin
 from .seat_report import (
     SeatReport,
@@ -77,6 +87,7 @@ from .seat_report import (
     seat_report,
     seat_row,
 )
+from .seat_review import MissingSeat, ReviewRegion
 from .seat_sample import SAMPLE_DIVISIONS, SurfaceSample, link_sample, surface_sample
 from .seat_search import (
     SEAT_FRACTION,
@@ -85,13 +96,15 @@ from .seat_search import (
     find_seat,
     first_joint,
     joint_axes,
+    suggested_region,
     suggestion,
     tcp_axis,
 )
 from .tolerances import tol
 
 __all__ = ["SurfaceSample", "surface_sample", "link_sample", "SeatRow", "SeatReport",
-           "detect_regions", "seat_report", "seat_row", "region_references", "region_order",
+           "SeatSearch", "detect_regions", "find_seats", "seat_report", "seat_row",
+           "region_references", "region_order",
            "SAMPLE_DIVISIONS", "RING_COVERAGE", "FACE_SLOPE", "SEAT_FRACTION",
            "MIN_MESH_NODES", "MIN_SAMPLE_POINTS", "FOREIGN_AREA"]
 
@@ -135,6 +148,7 @@ def detect_regions(robot: Robot, overwrite: bool = False, mesh_size: float | Non
     ValueError
         A joint seat cannot be found (the message names the link and the joint and gives
         ``[links.regions.<joint>]`` values to start from), or two regions of a link overlap.
+        :func:`find_seats` writes a suggestion for review instead.
 
     Examples
     --------
@@ -144,41 +158,90 @@ def detect_regions(robot: Robot, overwrite: bool = False, mesh_size: float | Non
     >>> [round(v, 3) for v in reg.center], reg.axis, round(reg.r_min, 3)
     ([0.175, -0.18, 0.0], (0.0, 1.0, 0.0), 0.072)
     """
+    return _detect(robot, overwrite, mesh_size, tcp, base, review=False).robot
+
+
+@dataclass(frozen=True, eq=False)
+class SeatSearch:
+    """What :func:`find_seats` found: the ``robot`` with its regions, the seats it could
+    not find (``missing``: :class:`~flexarm.robot.seat_review.MissingSeat`, each with the
+    suggestion written for review) and the (link, joint) seats it moved so that the two
+    seats of a joint face each other (``paired``)."""
+
+    robot: Robot
+    missing: tuple = ()
+    paired: tuple = ()
+
+
+def find_seats(robot: Robot, overwrite: bool = False, mesh_size: float | None = None, *,
+               tcp: bool = True, base: bool = True) -> SeatSearch:
+    """As :func:`detect_regions`, but a joint seat not found never drops the others: it
+    gets a :class:`~flexarm.robot.seat_review.ReviewRegion` (the surface nearest the
+    joint origin) and a :class:`~flexarm.robot.seat_review.MissingSeat` entry.
+
+    Examples
+    --------
+    >>> from flexarm.robot import load_robot
+    >>> res = find_seats(load_robot(), overwrite=True)
+    >>> res.missing, sum(len(lk.regions) for lk in res.robot.links)
+    ((), 14)
+    """
+    return _detect(robot, overwrite, mesh_size, tcp, base, review=True)
+
+
+def _detect(robot: Robot, overwrite: bool, mesh_size, tcp: bool, base: bool,
+            review: bool) -> SeatSearch:
     h = robot.options.mesh_size if mesh_size is None else float(mesh_size)
     if not h > 0:
         raise ValueError(f"mesh_size must be > 0 m, got {mesh_size}")
     samples = {i: link_sample(lk) for i, lk in enumerate(robot.links) if lk.mesh is not None}
     regions = {i: ({} if overwrite else dict(lk.regions)) for i, lk in enumerate(robot.links)}
+    fixed = {(i, n) for i, regs in regions.items() for n in regs}
     todo = [ax for ax in joint_axes(robot) if ax.link in samples and ax.other in samples
             and ax.name not in regions[ax.link]]
-    sides_of = _seats_at_own_size(robot, todo, samples, regions, h)
-    _grow_for_the_mesh(robot, todo, samples, regions, h)
-    if tcp:
+    sides_of, why = _seats_at_own_size(robot, todo, samples, regions, h)
+    _grow_for_the_mesh(robot, [ax for ax in todo if (ax.link, ax.name) not in why], samples,
+                       regions, h)
+    if tcp:  # before the pairs: a band that moves must keep clear of the flange face
         _add_tcp(robot, samples, regions, sides_of, h)
     if base:
         _add_base(robot, samples, regions, sides_of, h)
+    two_sided = {key for key, sides in sides_of.items() if len(sides) == 2}
+    paired = face_each_other(robot, samples, regions, h, fixed, two_sided)
+    missing = []
+    for ax in todo:
+        if (ax.link, ax.name) not in why or ax.name in regions[ax.link]:
+            continue  # found, or found as the band facing the other link's seat
+        lk = robot.links[ax.link]
+        if not review:
+            raise ValueError(f"links.{lk.name}: no bearing seat for {ax.name} found on the CAD "
+                             f"({why[(ax.link, ax.name)]}); {suggestion(ax, samples[ax.link])}")
+        reg = ReviewRegion(*dataclasses.astuple(suggested_region(ax, samples[ax.link], h)))
+        regions[ax.link][ax.name] = reg
+        missing.append(MissingSeat(lk.name, ax.name, why[(ax.link, ax.name)], reg))
     for i, sample in samples.items():
         _check_overlaps(robot.links[i], regions[i], sample)
     links = tuple(dataclasses.replace(lk, regions=regions[i]) for i, lk in enumerate(robot.links))
-    return dataclasses.replace(robot, links=links)
+    done = dataclasses.replace(robot, links=links)
+    return SeatSearch(done, tuple(missing),
+                      tuple((robot.links[i].name, n) for i, n in paired))
 
 
 def _seats_at_own_size(robot: Robot, todo: list, samples: dict, regions: dict,
-                       h: float) -> dict[tuple, tuple]:
-    """Every seat of ``todo`` at its own size into ``regions``; (link, joint) -> its sides.
-
-    Raises the ``ValueError`` of :func:`detect_regions` for a seat not found."""
+                       h: float) -> tuple[dict, dict]:
+    """Every seat of ``todo`` at its own size into ``regions``: (link, joint) -> its
+    sides, and (link, joint) -> why it was not found."""
     sides_of: dict[tuple, tuple] = {}
+    why: dict[tuple, str] = {}
     for ax in todo:
-        try:
+        try:  # one seat not found must not stop the others
             reg, _, sides = find_seat(robot, ax, samples, h, grow=False)
         except SeatNotFound as exc:
-            lk = robot.links[ax.link]
-            raise ValueError(f"links.{lk.name}: no bearing seat for {ax.name} found on the CAD "
-                             f"({exc}); {suggestion(ax, samples[ax.link])}") from None
+            why[(ax.link, ax.name)] = str(exc)
+            continue
         regions[ax.link][ax.name] = reg
         sides_of[(ax.link, ax.name)] = sides
-    return sides_of
+    return sides_of, why
 
 
 def _grow_for_the_mesh(robot: Robot, todo: list, samples: dict, regions: dict,
@@ -238,7 +301,7 @@ def _add_tcp(robot: Robot, samples: dict, regions: dict, sides_of: dict, h: floa
         _clear_of(reg, regions[ax.link], sample)
     except SeatNotFound as exc:
         warnings.warn(f"links.{robot.links[ax.link].name}: no flange face for a 'tcp' region "
-                      f"({exc}); the TCP is carried rigidly by the flange seat", stacklevel=3)
+                      f"({exc}); the TCP is carried rigidly by the flange seat", stacklevel=4)
         return
     regions[ax.link]["tcp"] = reg
 
@@ -271,7 +334,7 @@ def _add_base(robot: Robot, samples: dict, regions: dict, sides_of: dict, h: flo
         _clear_of(reg, regions[0], sample)
     except SeatNotFound as exc:
         warnings.warn(f"links.{robot.links[0].name}: no foundation face for a 'base' region "
-                      f"({exc}); the base stays rigid", stacklevel=3)
+                      f"({exc}); the base stays rigid", stacklevel=4)
         return
     regions[0]["base"] = reg
 

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..assembly.analyses import frf, natural_frequencies, tcp_compliance
+from ..assembly.analyses import frf, modes, tcp_compliance
 from ..assembly.build import BuildOptions, Mesher, build_robot
 from ..assembly.emodel import emodel
 from ..assembly.flexible import flexible_arm
@@ -26,8 +26,9 @@ from ..fe.files import atomic_path
 from ..fe.plotting import pyplot
 from ..fe.typing import FloatArray
 from ..robot.description import Robot, pose_from_string
+from ..validation.dynamic.mac import mac, pair_modes
 
-__all__ = ["ModelResult", "ComparisonReport", "compare_models"]
+__all__ = ["ModelResult", "ComparisonReport", "compare_models", "paired_reference"]
 
 log = logging.getLogger(__name__)
 
@@ -35,8 +36,10 @@ log = logging.getLogger(__name__)
 @dataclass(frozen=True)
 class ModelResult:
     """One model at one pose: ``freq_hz`` (n,) [Hz], ``C_diag`` (6,) TCP compliance
-    diagonal [m/N, rad/(N m)], ``n_dofs``, and the Y receptance magnitude ``bode``
-    (nf,) [m/N] at the report's ``freq_hz`` (None for the full-FE reference)."""
+    diagonal [m/N, rad/(N m)], ``n_dofs``, the Y receptance magnitude ``bode``
+    (nf,) [m/N] at the report's ``freq_hz`` (None for the full-FE reference) and the
+    TCP motion of each mode ``tcp_shapes`` (6, n) [m, rad] (None: modes are paired by
+    index)."""
 
     model: str
     pose: str
@@ -44,6 +47,34 @@ class ModelResult:
     C_diag: FloatArray
     n_dofs: int
     bode: FloatArray | None = None
+    tcp_shapes: FloatArray | None = None
+
+
+def paired_reference(result: ModelResult, ref: ModelResult) -> np.ndarray:
+    """(n,) index of the reference mode paired with each mode of ``result`` (-1: none).
+
+    Paired by the MAC of their TCP motion (one-to-one, MAC >= 0.8, frequencies within a
+    factor 2: :func:`~flexarm.validation.dynamic.mac.pair_modes`); by index when either
+    lacks shapes.  A rigid-link model has fewer modes than a flexible one and its
+    higher modes are other motions than the reference's of the same rank: pairing by
+    rank would compare a wrist mode with a link-bending one.
+
+    Examples
+    --------
+    >>> a = ModelResult("E", "P1", np.array([10.0, 50.0]), np.ones(6), 6,
+    ...                 tcp_shapes=np.array([[1.0, 0], [0, 1], [0, 0], [0, 0], [0, 0], [0, 0]]))
+    >>> b = ModelResult("FE", "P1", np.array([9.9, 30.0, 52.0]), np.ones(6), 900,
+    ...                 tcp_shapes=np.array([[1.0, 0, 0], [0, 0, 1], [0, 1, 0],
+    ...                                      [0, 0, 0], [0, 0, 0], [0, 0, 0]]))
+    >>> paired_reference(a, b).tolist()
+    [0, 2]
+    """
+    n = len(result.freq_hz)
+    if result.tcp_shapes is None or ref.tcp_shapes is None:
+        k = np.arange(n)
+        return np.where(k < len(ref.freq_hz), k, -1)
+    M = mac(np.asarray(result.tcp_shapes).T, np.asarray(ref.tcp_shapes).T)
+    return pair_modes(M, result.freq_hz, ref.freq_hz).model
 
 
 @dataclass(frozen=True)
@@ -66,15 +97,16 @@ class ComparisonReport:
         out = []
         for r in self.results:
             ref = self.get(self.reference, r.pose)
-            n = min(len(r.freq_hz), len(ref.freq_hz))
+            pairs = paired_reference(r, ref)
+            mine = np.flatnonzero(pairs >= 0)
             d = {"pose": r.pose, "model": r.model, "n_dofs": r.n_dofs}
             for k in range(len(r.freq_hz)):
                 d[f"f{k + 1}_Hz"] = float(r.freq_hz[k])
             for a, name in enumerate("xyz"):
                 d[f"C{name}{name}_mm_per_kN"] = float(r.C_diag[a] * 1e6)
-            err_f = 100 * (r.freq_hz[:n] / ref.freq_hz[:n] - 1)
+            err_f = 100 * (r.freq_hz[mine] / ref.freq_hz[pairs[mine]] - 1)
             err_c = 100 * (r.C_diag[:3] / ref.C_diag[:3] - 1)
-            d["max_f_err_pct"] = float(np.abs(err_f).max())
+            d["max_f_err_pct"] = float(np.abs(err_f).max()) if mine.size else float("nan")
             d["max_C_err_pct"] = float(np.abs(err_c).max())
             out.append(d)
         return out
@@ -185,7 +217,9 @@ def compare_models(
     if any(j.emodel is not None for j in robot.joints):
         models["E-model (bearing)"] = emodel(robot, mass_method, cb.mesh_size, equivalent=False)
     models.update({"Guyan": flexible_arm(robot, gy, b_gy), cb.label: flexible_arm(robot, cb, b_cb)})
-    if robot.chain.n_joints >= 6:
+    # a robot without [wrist] would get a row identical to CB's
+    if robot.chain.n_joints >= 6 and (robot.wrist_coupling is not None
+                                      or robot.wrist_stiffness is not None):
         models[f"{cb.label}+wrist"] = flexible_arm(robot, cb, b_cb, coupled_wrist=True)
     fb = full_fe_bodies(robot, cb, mesher, say) if full_fe else None
     fbode = np.geomspace(1, 1000, 300) if bode_freq_hz is None else np.asarray(bode_freq_hz)
@@ -194,15 +228,16 @@ def compare_models(
         q = pose_from_string(robot, pname)
         for name, arm in models.items():
             say(f"{pname}: {name}")
-            f = natural_frequencies(arm, q)[:n_freq]
+            md = modes(arm, q)
             C = np.diag(tcp_compliance(arm, q))
             H = np.abs(frf(arm, q, fbode)[:, 1, 1])
-            results.append(ModelResult(name, pname, f, C, arm.layout["n"], H))
+            results.append(ModelResult(name, pname, md.freq_hz[:n_freq], C, arm.layout["n"],
+                                       H, md.tcp_shapes[:, :n_freq]))
         if fb is not None:
             say(f"{pname}: full FE")
             ref = full_fe_analysis(models[cb.label], fb, q, n_freq)
             results.append(ModelResult("full-FE", pname, ref.freq_hz, np.diag(ref.C),
-                                       ref.n_dofs))
+                                       ref.n_dofs, tcp_shapes=ref.tcp_shapes))
     report = ComparisonReport(tuple(results), "full-FE" if full_fe else cb.label, fbode)
     if out_dir is not None:
         files = _write(report, Path(out_dir), list(poses))

@@ -4,6 +4,7 @@ meshes next to the robot file, and a report of what came in and what is a placeh
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -14,7 +15,10 @@ from ..fe.typing import PathType
 from ..robot.description import Robot
 from ..robot.formats import urdf
 from ..robot.hollowing import Hollowing, hollow_links
-from ..robot.seats import detect_regions
+from ..robot.placeholder_stiffness import PlaceholderStiffness
+from ..robot.seat_review import MissingSeat, with_seats
+from ..robot.seats import find_seats
+from .import_stiffness import mass_line, sized_placeholders
 
 __all__ = ["ImportedRobot", "import_urdf", "derived_meshes_dir"]
 
@@ -24,7 +28,9 @@ class ImportedRobot:
     """The imported ``robot``, the mass of its solid CAD as given [kg] and its mass after
     any density scaling [kg] (links and lumped masses, surface integrals), the URDF frame
     that set the tool (None: no ``tool0``/``flange``), the fixed links ``merged`` into
-    each moving link and the ``derived`` meshes written per link."""
+    each moving link and the ``derived`` meshes written per link; ``missing`` holds the
+    :class:`~flexarm.robot.seat_review.MissingSeat` s (seats not found on the CAD, each
+    with its suggested region written for review)."""
 
     robot: Robot
     solid_mass: float
@@ -33,6 +39,9 @@ class ImportedRobot:
     merged: dict = field(default_factory=dict)
     derived: dict = field(default_factory=dict)
     hollowing: Hollowing | None = None
+    stiffness: PlaceholderStiffness | None = None
+    mass_note: str = ""
+    missing: tuple = ()
 
     @property
     def placeholder_joints(self) -> tuple[str, ...]:
@@ -70,14 +79,22 @@ class ImportedRobot:
             lines += self.hollowing.text().splitlines()
         n_regions = sum(len(lk.regions) for lk in self.robot.links)
         if n_regions:
-            lines.append(f"bearing seats: {n_regions} regions found on the link CAD and "
-                         f"written out for review (`flexarm show-regions --robot {robot_file} "
-                         "-o DIR`)")
+            n_review = sum(m.region is not None for m in self.missing)
+            names = ", ".join(f"{m.link}:{m.joint}" for m in self.missing if m.region)
+            found = (f"{n_regions} regions found on the link CAD" if not n_review else
+                     f"{n_regions - n_review} regions found on the link CAD and {n_review} "
+                     f"suggested (review = true: {names})")
+            lines.append(f"bearing seats: {found}, written out for review (`flexarm "
+                         f"show-regions --robot {robot_file} -o DIR`)")
+        if self.mass_note:
+            lines.append(self.mass_note)
         if self.placeholder_joints:
             lines.append(
                 f"placeholder stiffness (a URDF has none) on {', '.join(self.placeholder_joints)}"
                 f": identify it from measurements with `flexarm diagnose MEASURED.csv --robot "
                 f"{robot_file} --apply -o IDENTIFIED.toml`")
+            if self.stiffness is not None:
+                lines.append(f"placeholder {self.stiffness.text()}")
         return lines
 
     def _tool_line(self) -> str:
@@ -105,7 +122,7 @@ def derived_meshes_dir(robot_file: PathType) -> Path:
 
 def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None = None,
                 derived_dir: PathType | None = None, wall: float | str | None = None,
-                regions: bool = True) -> ImportedRobot:
+                regions: bool = True, seats=()) -> ImportedRobot:
     """Read a URDF, optionally hollow its solid link hulls, find every bearing seat on the
     link CAD, and match the datasheet mass.
 
@@ -126,8 +143,13 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
     wall : float or "auto", optional
         Hollow every link hull to walls this thick [m] (:mod:`flexarm.robot.hollowing`).
     regions : bool
-        Find the bearing seats (:func:`flexarm.robot.seats.detect_regions`); they are
-        written into the robot file for review.
+        Find the bearing seats (:func:`flexarm.robot.seats.find_seats`); they are
+        written into the robot file for review.  A seat not found gets a suggested region
+        marked ``review = true`` and one warning naming the link, the joint and the fix
+        (``ImportedRobot.missing``); the other seats are found all the same.
+    seats : iterable of (link, joint, Region)
+        Seats given by hand (:func:`flexarm.robot.seat_review.parse_seat`), kept as given
+        [m, link frame]; the finder pairs the other link's seat with them.
 
     Examples
     --------
@@ -145,39 +167,56 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
     imported = urdf.load(path, meshes=meshes, derived_dir=derived_dir)
     robot = imported.robot
     solid = total_mass(robot, "surface")
+    missing = ()
+    if seats:
+        robot = with_seats(robot, seats)
     if regions:  # on the outer CAD: a shell's cavity would read as bores and faces
-        robot = _seat_regions(robot)
+        robot, missing = _seat_regions(robot)
     hollowing = None
     if wall is not None:
         robot, hollowing = hollow_links(robot, wall, mass_kg, derived_dir)
     if mass_kg is not None and wall != "auto":
         robot = with_total_mass(robot, mass_kg)
-    return ImportedRobot(robot, solid, total_mass(robot, "surface"), imported.tool_frame,
-                         imported.merged, imported.derived, hollowing)
+    mass = total_mass(robot, "surface")
+    if mass_kg is not None:
+        rule_mass, source = mass_kg, "datasheet"
+    elif imported.inertial_mass is not None:
+        rule_mass, source = imported.inertial_mass, "URDF inertials"
+    else:
+        rule_mass, source = mass, "CAD"
+    robot, stiffness = sized_placeholders(robot, rule_mass, source, imported.effort)
+    return ImportedRobot(robot, solid, mass, imported.tool_frame, imported.merged,
+                         imported.derived, hollowing, stiffness,
+                         mass_line(imported.inertial_mass, solid, mass_kg), missing)
 
 
-def _seat_regions(robot: Robot) -> Robot:
-    """``robot`` with its bearing seats found on the link CAD, or unchanged (one warning
-    naming the links) when some CAD is not a closed surface: a seat needs the solid's
-    outside, and a flexible model needs a closed surface anyway."""
+def _seat_regions(robot: Robot) -> tuple[Robot, tuple]:
+    """``robot`` with its bearing seats found on the link CAD, and the seats not found
+    (each with one warning naming the link, the joint and the fix).  A link whose CAD is
+    not a closed surface (one warning naming its file) gets no seats: a seat needs the
+    solid's outside, and a flexible model needs a closed surface anyway."""
     from ..fe.errors import MeshError
     from ..meshes import load_surface
 
-    open_cad = []
+    unreadable = {}
     for lk in robot.links:
         if lk.mesh is None:
             continue
         try:
             load_surface(lk.mesh, units=lk.units)
         except MeshError as exc:
-            open_cad.append(f"{lk.name} ({str(exc).rsplit(': ', 1)[-1]})")
-    if open_cad:
-        warnings.warn(f"no bearing seats looked for: the CAD of {', '.join(open_cad)} is not a "
-                      "closed surface, which flexible models need (URDF visual meshes often "
-                      "are open: import with --meshes collision)", stacklevel=3)
-        return robot
-    try:
-        return detect_regions(robot)
-    except ValueError as exc:  # the import stands; the seats are then set by hand
-        warnings.warn(f"bearing seats not found: {exc}", stacklevel=3)
-        return robot
+            unreadable[lk.name] = str(exc)
+            warnings.warn(f"links.{lk.name}: no bearing seats looked for on {exc}", stacklevel=3)
+    searched = dataclasses.replace(robot, links=tuple(
+        dataclasses.replace(lk, mesh=None) if lk.name in unreadable else lk
+        for lk in robot.links))
+    res = find_seats(searched)
+    missing = list(res.missing) + [
+        MissingSeat(lk, jt.name, f"the CAD of {bad} is not a closed surface")
+        for jt in robot.joints for bad in (jt.parent, jt.child) if bad in unreadable
+        for lk in (jt.parent, jt.child)]
+    for m in missing:
+        warnings.warn(m.warning(), stacklevel=3)
+    links = tuple(dataclasses.replace(lk, regions=found.regions)
+                  for lk, found in zip(robot.links, res.robot.links, strict=True))
+    return dataclasses.replace(robot, links=links), tuple(missing)

@@ -6,8 +6,11 @@ For every link with a CAD mesh: its tetrahedral mesh at the mesh size (the build
 build would accept them (:func:`~flexarm.reduction.interfaces.interfaces`: enough nodes,
 not collinear, no node shared by two regions), and the region measured on the CAD surface
 sample (:func:`~flexarm.robot.seats.seat_report`: area, radius range, axial extent,
-offsets of its centroid from the joint axis and origin).  :meth:`RegionsResult.write`
-draws one picture per link (PyVista, off screen) and writes ``regions.csv``.
+offsets of its centroid from the joint axis and origin); a region marked ``review = true``
+says so.  Below, the two seats of every joint against each other
+(:mod:`~flexarm.studies.show_pairs`: gap along the axis, radial overlap, FE nodes a side).
+:meth:`RegionsResult.write` draws one picture per link (PyVista, off screen) and writes
+``regions.csv``.
 """
 
 from __future__ import annotations
@@ -25,9 +28,14 @@ from ..fe.files import atomic_path
 from ..fe.typing import FloatArray, IntArray
 from ..reduction.interfaces import CylinderRegion, check_spread, interfaces, select_region
 from ..robot.description import Robot
+from ..robot.seat_review import is_review
 from ..robot.seats import SeatRow, link_sample, region_order, region_references, seat_row
+from .show_pairs import PairRow, pair_rows, pairs_text
 
-__all__ = ["RegionRow", "LinkRegions", "RegionsResult", "show_regions"]
+__all__ = ["RegionRow", "LinkRegions", "RegionsResult", "show_regions", "REVIEW"]
+
+#: Status of a region the build takes that is marked ``review = true`` (a suggestion).
+REVIEW = "review: suggested where no seat was found; confirm or replace it"
 
 #: Region colours (matplotlib's tab10), in region order per link.
 _COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2",
@@ -92,11 +100,17 @@ class RegionsResult:
     rows: tuple[RegionRow, ...]
     links: tuple[LinkRegions, ...]
     files: tuple[Path, ...] = field(default=())
+    pairs: tuple[PairRow, ...] = field(default=())
 
     @property
     def ok(self) -> bool:
-        """True when the build would accept every region."""
-        return all(r.status == "ok" for r in self.rows)
+        """True when the build would accept every region (one marked for review too)."""
+        return all(r.status in ("ok", REVIEW) for r in self.rows)
+
+    @property
+    def pairs_ok(self) -> bool:
+        """True when the two seats of every joint face each other with enough nodes."""
+        return all(p.ok for p in self.pairs)
 
     def text(self) -> str:
         """Table per link and region: FE nodes at the mesh size, CAD area [cm^2], radius
@@ -111,6 +125,8 @@ class RegionsResult:
                          f"{1e3 * s.r_lo:>4.0f}-{1e3 * s.r_hi:<4.0f} {1e3 * s.axial:>8.1f} "
                          f"{1e3 * s.axis_offset:>11.1f} {1e3 * s.origin_offset:>13.1f}  "
                          f"{row.status}")
+        if self.pairs:
+            lines += ["", pairs_text(self.pairs)]
         return "\n".join(lines)
 
     def write(self, out_dir, window_size=(1024, 768)) -> list[Path]:
@@ -208,7 +224,9 @@ def show_regions(robot: Robot, out_dir=None, mesh_size: float | None = None,
                 for n in named:
                     if status[n] == "ok":
                         status[n] = str(exc).replace(f"region '{n}' ", "")
-        for n in names:
+        for n in names:  # a suggestion the build takes is still to be confirmed
+            if status[n] == "ok" and is_review(lk.regions[n]):
+                status[n] = REVIEW
             rows.append(RegionRow(lk.name, n, int(nodes[n].size),
                                   seat_row(lk.name, n, lk.regions[n], sample.points,
                                            sample.weight, refs[(lk.name, n)]), status[n]))
@@ -217,7 +235,10 @@ def show_regions(robot: Robot, out_dir=None, mesh_size: float | None = None,
                  for n in missing]
         shown.append(LinkRegions(lk.name, mesh.points, mesh.boundary_faces(),
                                  {n: lk.regions[n] for n in names}, nodes, _link_axes(robot, i)))
-    res = RegionsResult(robot.name, h, tuple(rows), tuple(shown))
+    shown_names = {lk.name for lk in shown}
+    pairs = tuple(pr for pr in pair_rows(robot, rows)
+                  if {pr.pair.parent, pr.pair.child} & shown_names)
+    res = RegionsResult(robot.name, h, tuple(rows), tuple(shown), pairs=pairs)
     if out_dir is not None:
         res = dataclasses.replace(res, files=tuple(res.write(out_dir)))
     return res

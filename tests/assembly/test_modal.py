@@ -7,6 +7,7 @@ import pytest
 
 from flexarm.assembly import emodel
 from flexarm.assembly.analyses import modes
+from flexarm.assembly.modal import Modes
 from flexarm.robot import load_robot
 
 
@@ -43,3 +44,14 @@ def test_dataframe_matches_the_mode_energy_columns(arm_modes):
     assert m.to_dataframe().columns[3] == "energy_share_joint_1"  # joints count from 1
     with pytest.raises(ValueError, match="must name 6 joints, got 2"):
         m.to_dataframe(["a", "b"])
+
+
+def test_text_keeps_full_joint_names():
+    # URDF joints are named "joint_a1" or "shoulder_pan_joint": never cut to their tail
+    m = Modes(np.array([7.5, 16.0]), np.eye(3, 2), np.zeros((6, 2)), np.array([0.02, 0.03]),
+              np.array([[0.9, 0.2], [0.1, 0.8]]), ["a", "b"])
+    header, row, _ = m.text(["joint_a1", "shoulder_pan_joint"]).splitlines()
+    assert header.split()[3:] == ["joint_a1", "shoulder_pan_joint"]
+    # each share right-aligned under its name
+    assert row.index("0.900") + 5 == header.index("joint_a1") + len("joint_a1")
+    assert row.rindex("0.100") + 5 == len(header)

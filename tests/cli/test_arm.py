@@ -42,3 +42,12 @@ def test_modes_beyond_the_model_say_so_in_one_line(capsys):
     assert "warning" not in cap.err and f"... {n - 3} more modes" in cap.out
     assert main(["modes", "--mass", "surface", "--pose", "P1", "-n", "0"]) == 2
     assert capsys.readouterr().err.strip().endswith("--n-modes: list at least 1 mode, got 0")
+
+
+def test_modes_without_n_warns_of_nothing(capsys):
+    """The default count is not the user's: an E-model with fewer modes lists them all
+    without a warning."""
+    assert main(["modes", "--model", "emodel", "--mass", "surface", "--pose", "P1"]) == 0
+    cap = capsys.readouterr()
+    rows = [r for r in cap.out.splitlines()[1:] if r.split()[0].isdigit()]
+    assert 6 <= len(rows) < 24 and cap.err.strip() == ""

@@ -34,10 +34,17 @@ def test_table_of_every_region(robot_files, capsys):
     assert main(["show-regions", "--robot", str(robot_files[0]), "--mesh-size", H]) == 0
     out = capsys.readouterr().out.splitlines()
     assert "tet mesh at 40 mm" in out[0]
-    rows = [ln.split() for ln in out[2:]]
+    blank = out.index("")
+    rows = [ln.split() for ln in out[2:blank]]
     assert {(r[0], r[1]) for r in rows} == set(SEATS)
     assert all(r[-1] == "ok" and int(r[2]) >= 6 for r in rows)
     assert not any(ln.startswith("wrote") for ln in out)
+    # the seat pairs: faces that meet, and the hub's bore on the arm's end face
+    assert out[blank + 1].startswith("seat pairs (gap along the joint axis")
+    pairs = {ln.split()[0]: ln for ln in out[blank + 3:]}
+    assert list(pairs) == ["joint_1", "joint_2", "joint_3"]
+    assert pairs["joint_1"].endswith("  ok") and pairs["joint_3"].endswith("  ok (bore)")
+    assert all(min(int(v) for v in ln.split()[5:7]) >= 6 for ln in pairs.values())
 
 
 def test_a_missing_seat_exits_1(robot_files, capsys):
@@ -52,8 +59,12 @@ def test_a_missing_seat_exits_1(robot_files, capsys):
 def test_links_option(robot_files, capsys):
     assert main(["show-regions", "--robot", str(robot_files[0]), "--mesh-size", H,
                  "--links", "hub, arm"]) == 0
-    rows = [ln.split()[:2] for ln in capsys.readouterr().out.splitlines()[2:]]
+    out = capsys.readouterr().out.splitlines()
+    rows = [ln.split()[:2] for ln in out[2:out.index("")]]
     assert rows == [["arm", "joint_2"], ["arm", "joint_3"], ["hub", "joint_3"], ["hub", "tcp"]]
+    # pairs of the links shown; the column's side of joint_2 was not meshed: "-"
+    pairs = [ln.split() for ln in out[out.index("") + 3:]]
+    assert [p[0] for p in pairs] == ["joint_2", "joint_3"] and pairs[0][5] == "-"
     assert main(["show-regions", "--robot", str(robot_files[0]), "--links", "nope"]) == 2
     assert "unknown link 'nope'" in capsys.readouterr().err
 

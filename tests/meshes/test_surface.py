@@ -256,3 +256,31 @@ def test_absurd_size_for_units(tmp_path):
     with pytest.raises(MeshError, match=r"part is 0.0005 m across with units='mm'"):
         load_surface(tiny, units="mm")
     assert load_surface(tiny, units="m").volume == pytest.approx(0.02)
+
+
+def test_a_filled_hole_is_said_once_per_file(tmp_path, caplog, monkeypatch, private_cache):
+    """Every command that meshes or measures a link reads its CAD again: the filled hole
+    is a warning the first time only, in this process and in later ones."""
+    import flexarm.meshes.surface as surface
+
+    box = bar_surface(0.2, 0.1, 0.05).subdivide().subdivide()
+    keep = np.ones(len(box.faces), dtype=bool)
+    keep[7] = False
+    box.update_faces(keep)
+    path = _write(tmp_path / "gap.stl", box)
+
+    def warnings_of(n_loads: int) -> list[str]:
+        caplog.clear()
+        with caplog.at_level(logging.INFO, logger="flexarm.meshes"):
+            for _ in range(n_loads):
+                load_surface(path)
+        return [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
+
+    first = warnings_of(3)
+    assert len(first) == 1 and "filled holes with 1 face" in first[0]
+    assert "filled holes" in caplog.text  # the later reads still log it, as info
+    monkeypatch.setattr(surface, "_SAID", set())  # a later command: a new process
+    assert warnings_of(1) == []
+    monkeypatch.setenv("FLEXARM_CACHE", str(tmp_path / "other-cache"))
+    monkeypatch.setattr(surface, "_SAID", set())
+    assert len(warnings_of(1)) == 1  # nobody has said it under that cache

@@ -46,3 +46,42 @@ def test_compare_models_box_arm(box_robot, tmp_path, figures):
     assert len(bode) == 2 * 3 * 50  # full FE has no Bode
     assert "P2: full FE" in msgs
     assert "CB(6)" in rep.text()
+
+
+def test_a_wrist_row_only_for_a_robot_with_a_wrist(monkeypatch):
+    """CB+wrist differs from CB only through ``[wrist]``: without it there is no row."""
+    import dataclasses
+
+    from flexarm.assembly.emodel import emodel
+    from flexarm.robot import load_robot
+    from flexarm.studies import compare_models as cm
+
+    # the flexible arms stand in as E-models: which rows exist is the question here
+    monkeypatch.setattr(cm, "build_robot", lambda *a, **k: None)
+    monkeypatch.setattr(cm, "flexible_arm", lambda robot, *a, **k: emodel(robot))
+    demo = load_robot()
+    with_wrist = cm.compare_models(demo, ["P1"], full_fe=False, mass_method="surface")
+    plain = dataclasses.replace(demo, wrist_coupling=None, wrist_stiffness=None)
+    without = cm.compare_models(plain, ["P1"], full_fe=False, mass_method="surface")
+    assert "CB(10)+wrist" in {r.model for r in with_wrist.results}
+    assert {r.model for r in without.results} == {"E-model", "E-model (bearing)", "Guyan",
+                                                 "CB(10)"}
+
+
+def test_modes_are_paired_by_shape_not_rank():
+    """A rigid-link model lacks the reference's link-bending modes: its wrist mode is
+    compared with the reference's wrist mode, not with the bending mode of the same rank."""
+    from flexarm.studies.compare_models import ComparisonReport, ModelResult
+
+    X, Y, Z = np.eye(6)[:3]
+    ref = ModelResult("full-FE", "P1", np.array([10.0, 40.0, 95.0]), np.ones(6), 900,
+                      tcp_shapes=np.stack([X, Z + 0.1 * Y, Y]).T)
+    em = ModelResult("E-model", "P1", np.array([10.2, 100.0]), np.ones(6), 6,
+                     tcp_shapes=np.stack([X, Y]).T)
+    rows = {d["model"]: d for d in ComparisonReport((em, ref), "full-FE", np.ones(1)).rows()}
+    # by rank the second pair would be 100 / 40 Hz: +150 %
+    assert rows["E-model"]["max_f_err_pct"] == pytest.approx(100 * (100 / 95 - 1))
+    lonely = ModelResult("E-model", "P1", np.array([300.0]), np.ones(6), 6,
+                         tcp_shapes=Z[:, None])
+    rows = ComparisonReport((lonely, ref), "full-FE", np.ones(1)).rows()
+    assert np.isnan(rows[0]["max_f_err_pct"])  # nothing to compare with

@@ -103,8 +103,12 @@ def test_show_regions_draws_and_measures_every_seat(irb, tmp_path):
         # the build's own test: enough nodes for a rank-6 coupling, on this coarse mesh
         assert row.fe_nodes >= red_tol.min_region_nodes, (row.link, row.region)
         if row.region.startswith("joint"):  # rings about the joint axis, near its origin
-            assert row.seat.axis_offset < 0.01, (row.link, row.region)
+            # (a hull's outline where the other link's seat is may sit a little off it)
+            assert row.seat.axis_offset < 0.35 * row.seat.r_hi, (row.link, row.region)
             assert row.seat.origin_offset < 0.36, (row.link, row.region)
+    # the two seats of each joint face each other: within 5 mm along its axis, or (the
+    # hub of joint 5 in link_4's fork) one between the two ends of the other
+    assert res.pairs_ok and [p.status for p in res.pairs].count("ok") == 5
 
 
 @pytest.mark.slow

@@ -61,7 +61,7 @@ def test_table_lists_links_and_regions(result):
     assert "tet mesh at 40 mm" in lines[0]
     assert lines[1].split() == ["link", "region", "FE_nodes", "area_cm2", "r_mm", "axial_mm",
                                 "off_axis_mm", "off_origin_mm", "status"]
-    body = [ln.split() for ln in lines[2:]]
+    body = [ln.split() for ln in lines[2:lines.index("")]]
     assert [(b[0], b[1]) for b in body] == [(r.link, r.region) for r in result.rows]
     hub = next(b for b in body if b[:2] == ["hub", "joint_3"])
     assert hub[5] == "60.0" and hub[-1] == "ok"  # axial extent of the bore [mm]
@@ -114,3 +114,39 @@ def test_show_regions_writes_with_out_dir(robot, tmp_path, gl):
     res = show_regions(robot, tmp_path, mesh_size=H)
     assert res.files[0] == tmp_path / "regions.csv" and len(res.files) == 1 + len(robot.links)
     assert all(p.stat().st_size > 0 for p in res.files)
+
+
+def test_seat_pairs_on_the_tet_meshes(result):
+    """Each joint's two seats: the CAD gap along the axis and the FE nodes of each side,
+    as the region rows count them."""
+    nodes = {(r.link, r.region): r.fe_nodes for r in result.rows}
+    assert [p.pair.joint for p in result.pairs] == ["joint_1", "joint_2", "joint_3"]
+    assert result.pairs_ok
+    for p in result.pairs:
+        assert (p.parent_nodes, p.child_nodes) == (nodes[(p.pair.parent, p.pair.joint)],
+                                                   nodes[(p.pair.child, p.pair.joint)])
+        assert min(p.parent_nodes, p.child_nodes) >= 6
+    j1, j2, j3 = (p.pair for p in result.pairs)
+    # faces that meet (the base's top and the column's bottom: both at z = 0.3 m)
+    assert abs(j1.gap) < 1e-3 and abs(j2.gap) < 1e-3 and j1.held == ""
+    # the hub's bore (0..60 mm) on the arm's end face: its middle 30 mm off, its end on it
+    assert j3.held == "bore" and j3.gap == pytest.approx(0.03, abs=2e-3) and j3.reach < 1e-3
+    assert [p.status for p in result.pairs] == ["ok", "ok", "ok (bore)"]
+    table = result.text().split("\n\n")[1].splitlines()
+    assert table[1].split() == ["joint", "parent", "child", "gap_mm", "overlap_mm", "nodes_p",
+                                "nodes_c", "status"]
+    assert table[4].split()[:4] == ["joint_3", "arm", "hub", f"{1e3 * j3.gap:.1f}"]
+
+
+def test_a_region_to_review_is_shown_and_still_builds(robot):
+    from flexarm.robot.seat_review import ReviewRegion
+
+    links = list(robot.links)
+    hub = dict(links[3].regions)
+    hub["joint_3"] = ReviewRegion(*dataclasses.astuple(hub["joint_3"]))
+    links[3] = dataclasses.replace(links[3], regions=hub)
+    res = show_regions(dataclasses.replace(robot, links=tuple(links)), mesh_size=H,
+                       links=["hub"])
+    rows = {r.region: r for r in res.rows}
+    assert rows["joint_3"].status.startswith("review: suggested where no seat was found")
+    assert rows["tcp"].status == "ok" and res.ok  # the build takes it

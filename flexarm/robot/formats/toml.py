@@ -3,7 +3,8 @@
 Angles are degrees in the file (keys ending ``_deg``), radians inside.  Mesh paths
 are relative to the TOML file.  Rigid joint directions are written ``"rigid"``;
 ``placeholder = true`` in ``[joints.model]`` marks unmeasured default stiffness (a URDF
-import; omitted when false).
+import; omitted when false); ``review = true`` in ``[links.regions.<name>]`` marks a
+region suggested where no seat was found on the CAD (omitted when false).
 Nonlinear joint laws live in an optional ``[nonlinear.<joint name>]`` table (keys:
 ``backlash_rad``; ``hardening_extra_rad_per_Nm`` + ``hardening_threshold_Nm``;
 ``hysteresis_lost_rad`` + ``hysteresis_radius_Nm``), read into ``Robot.effects``.
@@ -34,6 +35,7 @@ from ..description import (
     Tool,
 )
 from ..joints import JointModel
+from ..seat_review import ReviewRegion, is_review
 from . import toml_keys as tk
 from .toml_effects import effects_from_tables, effects_tables
 from .toml_modal_damping import modal_damping_from_table, modal_damping_table
@@ -107,8 +109,11 @@ def _link(d: dict, folder: Path) -> Link:
         if not isinstance(r, dict):
             raise ValueError(f"{rkey} must be a table, got {r!r}")
         tk.check_keys(r, tk.REGION_KEYS, rkey)
+        review = r.get("review", False)
+        if not isinstance(review, bool):
+            raise ValueError(f"{rkey}.review must be true or false, got {review!r}")
         try:
-            regions[rname] = Region(
+            regions[rname] = (ReviewRegion if review else Region)(
                 tuple(float(v) for v in r["center"]), tuple(float(v) for v in r["axis"]),
                 float(r["r_min"]), float(r["r_max"]), float(r["half_width"]),
                 str(r.get("coupling", "rbe2")))
@@ -294,7 +299,8 @@ def to_dict(robot: Robot, folder: Path) -> dict:
         if lk.regions:
             d["regions"] = {k: {"center": list(r.center), "axis": list(r.axis),
                                 "r_min": r.r_min, "r_max": r.r_max,
-                                "half_width": r.half_width, "coupling": r.coupling}
+                                "half_width": r.half_width, "coupling": r.coupling,
+                                **({"review": True} if is_review(r) else {})}
                             for k, r in lk.regions.items()}
         links.append(d)
     joints = []

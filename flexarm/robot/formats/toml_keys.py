@@ -21,7 +21,7 @@ BASE_KEYS = {"support", "stiffness", "damping_ratio"}
 TOOL_KEYS = {"xyz", "rpy_deg", "link"}
 WRIST_KEYS = {"coupling", "stiffness"}
 LUMPED_KEYS = {"name", "mass", "position", "inertia"}
-REGION_KEYS = {"center", "axis", "r_min", "r_max", "half_width", "coupling"}
+REGION_KEYS = {"center", "axis", "r_min", "r_max", "half_width", "coupling", "review"}
 MATERIAL_KEYS = {"E", "nu", "rho", "name"}
 
 

@@ -20,7 +20,10 @@ What becomes what:
   axis and limits (continuous: +-360 deg); a ``<mimic>`` is not modelled (a warning
   names the joint).  A URDF carries no stiffness: every joint gets
   the default gear torsion :data:`DEFAULT_TORSION` and rigid bearings, marked
-  ``source="placeholder"`` until identified (``flexarm diagnose --apply``).
+  ``source="placeholder"`` until identified (``flexarm diagnose --apply``);
+  :func:`flexarm.studies.import_urdf.import_urdf` scales it to the robot's size
+  (:mod:`~flexarm.robot.placeholder_stiffness`), from the ``<limit effort>`` and
+  ``<inertial>`` masses the import keeps (:class:`UrdfImport`).
 * **Regions** (interface seats) are left empty: the link's seats are found from its CAD
   by the caller.
 
@@ -74,13 +77,17 @@ class UrdfImport:
     ``tool_frame`` is the URDF frame that set the tool (``"tool0"``, ``"flange"`` or
     None); ``merged`` maps a moving link to the fixed links merged into it (frames
     included); ``derived`` maps a link to the derived STL written for it (links absent
-    use their published mesh or have none).
+    use their published mesh or have none); ``inertial_mass`` [kg] is the sum of every
+    ``<inertial>`` mass in the file (None: it gives none) and ``effort`` [N m] the torque
+    limit of each moving joint (None unless the file gives every joint one).
     """
 
     robot: Robot
     tool_frame: str | None
     merged: dict
     derived: dict
+    inertial_mass: float | None = None
+    effort: tuple[float, ...] | None = None
 
     @property
     def placeholder_joints(self) -> tuple[str, ...]:
@@ -222,7 +229,11 @@ def _import(path: Path, tree: UrdfTree, meshes: str, material: str, folder: Path
     merged = {b: tuple(members[b][1:]) for b in names if len(members[b]) > 1}
     log.info("URDF %s: %d links, %d joints, %d derived meshes", path.name, len(links),
              len(joints), len(derived))
-    return UrdfImport(robot, tool_frame, merged, derived)
+    inertials = [lk.inertial.mass for lk in tree.links.values() if lk.inertial is not None]
+    effort = tuple(j.effort for j in moving)
+    return UrdfImport(robot, tool_frame, merged, derived,
+                      float(sum(inertials)) if inertials else None,
+                      effort if all(e is not None for e in effort) else None)
 
 
 def _geometry(tree: UrdfTree, name: str, meshes: str, notes: list[str]):

@@ -11,6 +11,10 @@ odd scale, box/cylinder/sphere shapes, merged fixed links) becomes one *derived*
 STL in metres in the link frame, named by its content so that importing again reuses it.
 A COLLADA file's ``<unit meter=...>`` scales its coordinates (as ROS tools read it); its
 ``<up_axis>`` does not (URDF meshes are drawn in the link frame whatever it says).
+A mesh file that is not a closed surface is never used as published: its derived copy is
+closed by :func:`~flexarm.meshes.open_bodies.close_open_surface` (small holes within the
+repair's tolerance, else the convex hull of each open body), with one warning naming the
+user's file.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ import hashlib
 import logging
 import os
 import re
+import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,6 +33,7 @@ import numpy as np
 from ...fe.files import atomic_path, file_digest
 from ...fe.typing import FloatArray
 from ...fe.units import LENGTH_UNITS
+from ...meshes.open_bodies import close_open_surface, is_closed
 from ...meshes.surface import SURFACE_EXTENSIONS
 from .urdf_tree import Geometry
 
@@ -130,7 +136,8 @@ def published(piece: Piece, urdf: Path) -> tuple[Path, str] | None:
     factor = float(s[0]) * _file_factor(path)
     for units, f in LENGTH_UNITS.items():
         if np.isclose(factor, f, rtol=_UNIT_RTOL, atol=0):
-            return path, units
+            # an open file is made a solid in a derived one (see _piece_mesh)
+            return (path, units) if is_closed(_load(path, piece.link), path.name) else None
     return None
 
 
@@ -173,6 +180,10 @@ def _piece_mesh(piece: Piece, urdf: Path):
         S = np.diag([*scale, 1.0])
         # trimesh flips the faces of a mirroring transform, so the normals stay outward
         mesh.apply_transform(S)
+        closed = close_open_surface(mesh, path.name)
+        if closed.note:  # the geometry changed: say so, naming the user's file
+            warnings.warn(f"{closed.note} (link '{piece.link}')", stacklevel=2)
+        mesh = closed.mesh
     mesh.apply_transform(piece.transform)
     return mesh
 

@@ -114,7 +114,8 @@ class UrdfLink:
 class UrdfJoint:
     """A ``<joint>``: ``origin`` (4, 4) of the child frame in the parent link frame, unit
     ``axis`` (3,) in the child frame, limits [rad] (None when the file gives none), the
-    joint it mimics (``mimic``; None: it moves on its own)."""
+    joint it mimics (``mimic``; None: it moves on its own) and its torque limit
+    ``effort`` [N m] (None when the file gives none or 0, as many do)."""
 
     name: str
     type: str
@@ -125,6 +126,7 @@ class UrdfJoint:
     lower: float | None
     upper: float | None
     mimic: str | None = None
+    effort: float | None = None
 
     @property
     def moves(self) -> bool:
@@ -239,15 +241,18 @@ def _joint(el) -> UrdfJoint:
         if not np.linalg.norm(axis) > 0:
             raise ValueError(f"{where}: axis is the zero vector")
         axis = axis / np.linalg.norm(axis)
-    lower = upper = None
+    lower = upper = effort = None
     lim = el.find("limit")
     if kind == "revolute" and lim is not None:
         lower = float(_floats(lim.get("lower"), 1, [0.0], f"{where} limit lower")[0])
         upper = float(_floats(lim.get("upper"), 1, [0.0], f"{where} limit upper")[0])
+    if kind in MOVING and lim is not None:
+        effort = float(_floats(lim.get("effort"), 1, [0.0], f"{where} limit effort")[0])
+        effort = abs(effort) or None
     mimic = el.find("mimic")
     return UrdfJoint(name, kind, ends["parent"], ends["child"],
                      _origin(el.find("origin"), where), axis, lower, upper,
-                     None if mimic is None else mimic.get("joint"))
+                     None if mimic is None else mimic.get("joint"), effort)
 
 
 def _unique(names: list[str], what: str) -> None:

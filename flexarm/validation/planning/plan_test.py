@@ -33,6 +33,7 @@ import numpy as np
 from ...assembly.effects import resolve
 from ...assembly.system import ArmModel
 from ...fe.typing import ArrayLike, PathType
+from ...robot.collision import CollisionChecker
 from ...robot.description import Robot
 from ...robot.effects import TOOL_PARAMS, Effect, parse_effect
 from ...robot.kinematics import tcp_frame
@@ -116,7 +117,8 @@ def candidate_poses(robot: Robot, chain, n: int, seed: int, min_height: float,
                     extra=()) -> np.ndarray:
     """(k, 6) poses [rad]: ``extra`` and ``n`` uniform draws inside the joint limits
     (wrist joints within ±90°, rounded to 0.1°) whose TCP is at least ``min_height`` [m]
-    above the base."""
+    above the base and whose links neither collide nor touch the floor
+    (:class:`~flexarm.robot.collision.CollisionChecker`)."""
     lo = np.array([j.lower for j in robot.joints], float)
     hi = np.array([j.upper for j in robot.joints], float)
     lo[3:], hi[3:] = np.maximum(lo[3:], -np.pi / 2), np.minimum(hi[3:], np.pi / 2)
@@ -125,6 +127,10 @@ def candidate_poses(robot: Robot, chain, n: int, seed: int, min_height: float,
     q = np.vstack([np.reshape(extra, (-1, 6)), draws])  # drawn angles on a 0.1 deg grid
     z = tcp_frame(chain, q)[:, 2, 3]
     ok = (z >= min_height) & np.all((q >= lo - 1e-9) & (q <= hi + 1e-9), axis=1)
+    # a drawn pose the robot cannot take is no candidate (measured ones were taken)
+    drawn = np.flatnonzero(ok)
+    drawn = drawn[drawn >= len(np.reshape(extra, (-1, 6)))]
+    ok[drawn] = ~CollisionChecker(robot).colliding(q[drawn])
     return q[ok][: len(np.reshape(extra, (-1, 6))) + n]
 
 

@@ -261,3 +261,27 @@ def test_read_errors_name_the_file(tmp_path):
         robot_toml.read(wrong)
     with pytest.raises(FileNotFoundError):
         robot_toml.read(tmp_path / "missing.toml")
+
+
+def test_a_region_to_review_keeps_its_mark(tmp_path):
+    """``review = true`` reads as a ReviewRegion that selects like any region, is written
+    back, and is left out of regions nobody marked."""
+    from flexarm.robot.seat_review import ReviewRegion, is_review
+
+    data = copy.deepcopy(FULL)
+    data["links"][1]["regions"]["j2"]["review"] = True
+    robot = from_dict(data, FOLDER)
+    j1, j2 = robot.links[1].regions["j1"], robot.links[1].regions["j2"]
+    assert isinstance(j2, ReviewRegion) and is_review(j2) and not is_review(j1)
+    assert j2.contains(np.array([[0.25, 0.0, 0.0], [0.2, 0.5, 0.0]])).tolist() == [True, False]
+    path = tmp_path / "review.toml"
+    robot_toml.write(path, robot)
+    text = path.read_text()
+    assert text.count("review = true") == 1
+    back = robot_toml.read(path)
+    assert is_review(back.links[1].regions["j2"]) and not is_review(back.links[1].regions["j1"])
+    assert back.links[1].regions["j2"] == j2
+    data["links"][1]["regions"]["j2"]["review"] = "yes"
+    with pytest.raises(ValueError, match=exact("links.l1.regions.j2.review must be true or "
+                                               "false, got 'yes'")):
+        from_dict(data, FOLDER)

@@ -410,8 +410,10 @@ def test_cli_import_writes_relocatable_toml(tmp_path, capsys):
     assert lines[1] == ("links: base, arm (+ cap, tool0); meshes: 1 as published, 1 derived in "
                         f"{out.parent / 'robot_meshes'}")
     assert lines[3] == "tool: tool0 on arm, xyz [0.5, 0, 0] m, rpy [0, 0, 0] deg"
-    assert lines[4].startswith("placeholder stiffness (a URDF has none) on j1: identify it ")
-    assert "flexarm diagnose" in lines[4] and "--apply" in lines[4]
+    assert lines[4] == "mass: no URDF <inertial>; solid CAD 127.8 kg (no datasheet mass: the " \
+                       "CAD's is used)"
+    assert lines[5].startswith("placeholder stiffness (a URDF has none) on j1: identify it ")
+    assert "flexarm diagnose" in lines[5] and "--apply" in lines[5]
     text = out.read_text()
     assert 'mesh = "../demo_pkg/meshes/base.stl"' in text
     assert re.search(r'mesh = "robot_meshes/arm-[0-9a-f]{16}\.ply"', text)
@@ -430,13 +432,25 @@ def _urdf_origins(path):
 @pytest.mark.skipif(not IRB_URDF.is_file(), reason="shared IRB 4600 data not present")
 @pytest.mark.parametrize("meshes, suffix", [("collision", ".stl"), ("visual", ".dae")])
 def test_irb4600_imports_without_warnings(tmp_path, meshes, suffix):
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
+    """The collision hulls as published; of the visual meshes, the base's is open (a body
+    whose rims cross themselves): one warning naming it, and its hull in a derived file."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         imp = urdf.load(IRB_URDF, meshes=meshes, derived_dir=tmp_path / "d")
     robot = imp.robot
     assert len(robot.links) == 7 and len(robot.joints) == 6
-    assert not (tmp_path / "d").exists() and imp.derived == {}  # every mesh as published
-    assert all(lk.mesh.suffix == suffix and meshes in lk.mesh.parent.name for lk in robot.links)
+    published = robot.links if meshes == "collision" else robot.links[1:]
+    if meshes == "collision":
+        assert caught == [] and not (tmp_path / "d").exists() and imp.derived == {}
+    else:
+        (w,) = caught
+        assert str(w.message).startswith("base_link.dae: not a closed surface (2 bodies, 1 "
+                                         "open, 93 boundary edges); flat patches on its holes")
+        assert str(w.message).endswith("replaced by its convex hull (100% of the solid's "
+                                       "volume) (link 'base_link')")
+        assert list(imp.derived) == ["base_link"]
+        assert robot.links[0].mesh.parent == (tmp_path / "d").resolve()
+    assert all(lk.mesh.suffix == suffix and meshes in lk.mesh.parent.name for lk in published)
     assert all(lk.regions == {} and lk.lumped == () for lk in robot.links)
     origins = _urdf_origins(IRB_URDF)
     for j in robot.joints:
@@ -462,17 +476,21 @@ def test_cli_irb4600_import_prints_no_warnings(tmp_path, capsys, meshes):
     if meshes == "collision":  # closed hulls: every bearing seat found, nothing to warn
         assert text.err == ""
         assert sum(len(lk.regions) for lk in robot_toml.read(out).links) == 14
-    else:  # one real problem, in one line: an open visual mesh has no inside to seat on
-        assert text.err.count("\n") == 1 and "base_link" in text.err
-        assert text.err.startswith("warning: no bearing seats looked for")
+    else:  # one real problem, in one line: the open visual base becomes its hull
+        assert text.err.startswith("warning: base_link.dae: not a closed surface")
+        assert sum("warning: " in ln for ln in text.err.splitlines()) == 1
+        assert sum(len(lk.regions) for lk in robot_toml.read(out).links) == 14
     lines = text.out.splitlines()
     assert lines[0].startswith(f"wrote {out}: 7 links, 6 joints, ")
     assert lines[1].startswith("links: base_link (+ base), link_1, ")
-    assert "meshes: 7 as published, 0 derived" in lines[1]
+    assert ("meshes: 7 as published, 0 derived" if meshes == "collision" else
+            "meshes: 6 as published, 1 derived") in lines[1]
     assert lines[3] == "tool: tool0 on link_6, xyz [0, 0, 0] m, rpy [0, 90, 0] deg"
-    assert lines[-1].startswith("placeholder stiffness (a URDF has none) on joint_1, joint_2, "
+    assert lines[-2].startswith("placeholder stiffness (a URDF has none) on joint_1, joint_2, "
                                 "joint_3, joint_4, joint_5, joint_6: ")
-    assert not (tmp_path / "irb_meshes").exists()
+    cad = "1791.7" if meshes == "collision" else "1253.6"  # the visual meshes are no hulls
+    assert lines[-1].startswith(f"placeholder size rule: {cad} kg (CAD), reach 2.05 m")
+    assert (tmp_path / "irb_meshes").exists() == (meshes == "visual")
     assert robot_toml.read(out).joints[0].model.is_placeholder
 
 
