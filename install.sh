@@ -75,6 +75,18 @@ if [ "${1:-}" = "--test" ] || [ "${1:-}" = "--mpi" ]; then
   mpi_venv || echo "install.sh: no MPI environment (.venv/mpi): no petsc backend" >&2
 fi
 
+# The Matrix Market test compiles a reader against Eigen's loadMarket (a failure only
+# skips that test).
+if [ "${1:-}" = "--test" ] && command -v apt-get >/dev/null 2>&1 \
+    && { ! command -v g++ >/dev/null 2>&1 \
+         || [ ! -f /usr/include/eigen3/unsupported/Eigen/SparseExtra ]; }; then
+  SUDO=""; [ "$(id -u)" != 0 ] && command -v sudo >/dev/null 2>&1 && SUDO="sudo"
+  echo "install.sh: installing g++ and libeigen3-dev for the Matrix Market test"
+  { $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq \
+      --no-install-recommends g++ libeigen3-dev >/dev/null; } \
+    || echo "install.sh: could not install g++ and Eigen: the loadMarket check skips" >&2
+fi
+
 # The docs test opens the built site in a headless browser: Debian's chromium and its
 # driver (a failure only skips that test).
 if [ "${1:-}" = "--test" ] && ! command -v chromedriver >/dev/null 2>&1 \

@@ -53,42 +53,56 @@ def _run_export_arm(args) -> int:
 
 # --- export-exudyn ---------------------------------------------------------------------
 def _add_export_exudyn(p: argparse.ArgumentParser) -> None:
-    add_robot_args(p, ("cb", "guyan", "emodel"))
+    add_robot_args(p, ("emodel", "cb", "guyan"))
     p.add_argument("--no-gravity", action="store_true", help="leave gravity out of the model")
     p.add_argument("--no-check", action="store_true",
                    help="skip the check against flexarm (Exudyn's eigenfrequencies and "
                         "static TCP deflection under 800 N in Y, gravity off)")
+    p.add_argument("--self-contained", action=argparse.BooleanOptionalAction, default=True,
+                   help="write the script with the matrices and mode bases beside it "
+                        "(<stem>.npz, one <stem>_<i>_<link>.npz per flexible link): it runs "
+                        "with exudyn and numpy alone (default); --no-self-contained: a "
+                        "script that imports flexarm and rebuilds the arm from the robot "
+                        "file and the cache")
     p.add_argument("-o", "--output", required=True,
                    help="arm_exudyn.py: a script that builds the Exudyn mbs")
 
 
-@command("export-exudyn", "the arm as an Exudyn flexible-multibody model (script), checked "
-         "against flexarm's frequencies and compliance", _add_export_exudyn)
+@command("export-exudyn", "the arm as an Exudyn flexible-multibody model (a script with its "
+         "matrices, runs without flexarm), checked against flexarm's frequencies and "
+         "compliance", _add_export_exudyn)
 def _run_export_exudyn(args) -> int:
-    from ..studies.exudyn.model import exudyn_check, require_exudyn
+    from ..studies.exudyn.model import exudyn_check, ffrf_links, require_exudyn
     from ..studies.exudyn.script import write_exudyn_script
+    from ..studies.exudyn.standalone import write_standalone
 
     if not str(args.output).endswith(".py"):
         raise ValueError(f"{args.output}: the Exudyn model is written as a Python script (.py)")
-    if not args.no_check:
+    if args.self_contained or not args.no_check:
         require_exudyn()  # before the links are built
     robot = robot_from(args)
     q = pose_from(robot, args)
     arm = arm_from(args, robot)
+    links = None
+    if args.self_contained or not args.no_check:
+        links = ffrf_links(arm, say)  # shared by the check and the files
     if not args.no_check:
         with Progress("Exudyn model (gravity off): eigenvalues and static solve"):
-            chk = exudyn_check(arm, q, progress=say)
+            chk = exudyn_check(arm, q, links=links, progress=say)
         out(f"{arm.spec.label} arm at {args.pose}, Exudyn vs flexarm:")
         out(chk.text())
     gravity = None if args.no_gravity else (0.0, 0.0, -9.80665)
-    wrote([write_exudyn_script(args.output, robot.name, args.robot, arm.spec, q, args.pose,
-                               gravity)])
+    if args.self_contained:
+        wrote(write_standalone(args.output, arm, q, args.pose, gravity, links))
+    else:
+        wrote([write_exudyn_script(args.output, robot.name, args.robot, arm.spec, q,
+                                   args.pose, gravity)])
     return 0
 
 
 # --- exudyn-impulse --------------------------------------------------------------------
 def _add_exudyn_impulse(p: argparse.ArgumentParser) -> None:
-    add_robot_args(p, ("cb", "guyan", "emodel"))
+    add_robot_args(p, ("emodel", "cb", "guyan"))
     p.add_argument("--direction", default="1,1,1", help="pulse direction x,y,z (base frame)")
     p.add_argument("--duration", type=float, default=3.0, help="simulated time [s]")
     p.add_argument("--dt", type=float, default=5e-4, help="time step [s]")

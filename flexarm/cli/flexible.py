@@ -32,9 +32,36 @@ def _add_build(p: argparse.ArgumentParser) -> None:
 def _run_build(args) -> int:
     from ..assembly.build import BuildOptions, build_robot, builds_text
 
+    robot = robot_from(args)
     opts = BuildOptions(args.method, args.modes, args.coupling, args.mesh_size)
-    out(builds_text(build_robot(robot_from(args), opts, progress=say)))
+    out(builds_text(build_robot(robot, opts, progress=say)))
+    _check_pairs(robot, args.mesh_size)
     return 0
+
+
+def _check_pairs(robot, mesh_size) -> None:
+    """The seat pairs on the meshes just built (a table), and one warning per region to
+    review and per pair whose seats do not face each other."""
+    import warnings
+
+    from ..studies.show_regions import show_regions
+
+    meshed = [lk.name for i, lk in enumerate(robot.links)  # a rigid base is not meshed
+              if lk.mesh is not None and (i > 0 or "base" in lk.regions)]
+    res = show_regions(robot, mesh_size=mesh_size, links=meshed)
+    if not res.pairs:
+        return
+    out("")
+    out(res.text().split("\n\n", 1)[-1])
+    for row in res.rows:
+        if row.status.startswith("review"):
+            warnings.warn(f"links.{row.link}.regions.{row.region}: marked review = true (a "
+                          "suggestion where no seat was found): confirm or replace it",
+                          stacklevel=1)
+    for row in res.pairs:
+        if not row.ok:
+            warnings.warn(f"{row.pair.joint}: its seats on {row.pair.parent} and "
+                          f"{row.pair.child} do not pair up: {row.status}", stacklevel=1)
 
 
 # --- compare-models --------------------------------------------------------------------
@@ -114,10 +141,13 @@ def _run_study(args) -> int:
 
 # --- show-arm --------------------------------------------------------------------------
 def _add_show_arm(p: argparse.ArgumentParser) -> None:
-    add_robot_args(p, ("cb", "guyan", "emodel"))
+    add_robot_args(p, ("emodel", "cb", "guyan"))
     p.add_argument("--mode", type=int, default=1, help="arm mode number (1-based)")
     p.add_argument("--amplitude", type=float, default=0.06,
                    help="largest drawn displacement / arm size")
+    p.add_argument("--max-displacement", type=float, default=None, metavar="M",
+                   help=".vtu/.vtk: scale the shape to this largest displacement [m] "
+                        "(default: mass-normalised); stated in the file's field data")
     p.add_argument("--ellipsoid", action="store_true", help="draw the TCP compliance ellipsoid")
     p.add_argument("--interactive", action="store_true", help="open a window (needs a display)")
     p.add_argument("-o", "--output", default=None,
@@ -141,7 +171,8 @@ def _run_show_arm(args) -> int:
     q = pose_from(robot, args)  # a bad pose fails before any meshing
     arm = arm_from(args, robot)
     if is_mesh:
-        out(f"wrote {write_arm_mode(arm, q, args.mode, args.output, args.pose)}")
+        path = write_arm_mode(arm, q, args.mode, args.output, args.pose, args.max_displacement)
+        out(f"wrote {path}")
         return 0
     path = render_arm_mode(arm, q, args.mode, args.output,
                            args.ellipsoid, args.pose, amplitude=args.amplitude,

@@ -8,6 +8,9 @@ import os
 from ._common import Progress, command, ints, names, out, say, set_quiet, wrote
 
 _MATERIAL_HELP = "steel | cast_iron | aluminium | nafems | 'E,nu,rho' in SI units"
+#: The names of ``flexarm.reduction.formats.registry`` (a test holds them equal): the
+#: registry itself loads h5py and SciPy, too slow for building the parser.
+_SE_FORMATS = ("h5", "npz", "mtx", "dmig", "op4")
 
 
 # --- mesh ------------------------------------------------------------------------------
@@ -124,7 +127,7 @@ def _add_reduce(p: argparse.ArgumentParser) -> None:
                         "solve refined to double accuracy (default: double when it fits, "
                         "else single)")
     p.add_argument("-o", "--output", required=True, help="superelement file (.h5 default)")
-    p.add_argument("--format", default=None, choices=["h5", "npz", "mtx", "dmig"],
+    p.add_argument("--format", default=None, choices=_SE_FORMATS,
                    help="file format (default: from the extension)")
 
 
@@ -175,6 +178,9 @@ def _add_show(p: argparse.ArgumentParser) -> None:
                    help="picture .png or .gif (animation), or the mode shape as .vtu/.vtk "
                         "for ParaView")
     p.add_argument("--frames", type=int, default=24, help="GIF frames per period")
+    p.add_argument("--max-displacement", type=float, default=None, metavar="M",
+                   help=".vtu/.vtk: scale the shape to this largest displacement [m] "
+                        "(default: mass-normalised); stated in the file's field data")
     p.add_argument("--interactive", action="store_true", help="open a window (needs a display)")
 
 
@@ -193,7 +199,7 @@ def _run_show(args) -> int:
     from ..reduction.render import MODE_EXTENSIONS, render_mode, write_mode
 
     if args.output and os.path.splitext(args.output)[1].lower() in MODE_EXTENSIONS:
-        out(f"wrote {write_mode(se, args.mode, args.output, args.boundary)}")
+        out(f"wrote {write_mode(se, args.mode, args.output, args.boundary, args.max_displacement)}")
         if not args.interactive:
             return 0
         args.output = None
@@ -208,8 +214,9 @@ def _run_show(args) -> int:
 def _add_convert(p: argparse.ArgumentParser) -> None:
     p.add_argument("superelement", help="superelement file or Matrix Market folder")
     p.add_argument("-o", "--output", required=True,
-                   help="superelement to write: .h5, .npz, .mtx (folder), .bdf/.dmig/.pch")
-    p.add_argument("--format", default=None, choices=["h5", "npz", "mtx", "dmig"],
+                   help="superelement to write: .h5, .npz, .mtx (folder), .bdf/.dmig/.pch, "
+                        ".op4 (matrices only)")
+    p.add_argument("--format", default=None, choices=_SE_FORMATS,
                    help="format of the output (default: from its extension)")
 
 

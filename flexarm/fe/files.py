@@ -10,7 +10,7 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["atomic_path", "file_digest", "digest"]
+__all__ = ["atomic_path", "umask_mode", "file_digest", "digest"]
 
 
 @contextlib.contextmanager
@@ -41,13 +41,28 @@ def atomic_path(path, suffix: str | None = None) -> Iterator[Path]:
     try:
         yield tmp_path
         # mkstemp makes 0600 files; give the result the permissions a plain open() would.
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp_path, 0o666 & ~umask)
+        os.chmod(tmp_path, umask_mode(0o666))
         os.replace(tmp_path, path)
     finally:
         if tmp_path.exists():
             tmp_path.unlink()
+
+
+def umask_mode(base: int) -> int:
+    """The permission bits a new file (``base`` 0o666) or folder (0o777) gets from a plain
+    ``open()`` or ``mkdir()`` under the process umask; for what ``mkstemp``/``mkdtemp``
+    create private (0600/0700) and is then moved into place.
+
+    Examples
+    --------
+    >>> old = os.umask(0o027)
+    >>> oct(umask_mode(0o777)), oct(umask_mode(0o666))
+    ('0o750', '0o640')
+    >>> _ = os.umask(old)
+    """
+    umask = os.umask(0)
+    os.umask(umask)
+    return base & ~umask
 
 
 def file_digest(path) -> str:

@@ -10,7 +10,7 @@ from ..fe.tolerances import tol
 from ..fe.typing import FloatArray
 from .superelement import Superelement
 
-__all__ = ["interface_dofs", "reduced_modes", "mode_shape", "static_deflection"]
+__all__ = ["interface_dofs", "reduced_modes", "mode_coordinates", "mode_shape", "static_deflection"]
 
 
 def interface_dofs(se: Superelement, names) -> np.ndarray:
@@ -46,12 +46,13 @@ def reduced_modes(se: Superelement, clamped=(), n: int | None = None):
     return w, Q
 
 
-def mode_shape(se: Superelement, mode: int, boundary: str = "fixed"):
-    """Frequency [Hz] and (n_nodes, 3) shape of mode number ``mode`` (1-based).
+def mode_coordinates(se: Superelement, mode: int, boundary: str = "fixed"):
+    """Frequency [Hz] and mass-normalised reduced coordinates (n_dofs,) of mode number
+    ``mode`` (1-based): ``q^T M q = 1`` with the superelement's ``M``.
 
     ``boundary="fixed"``: the ``mode``-th fixed-interface (Craig-Bampton) mode;
     ``"free"``: the ``mode``-th elastic mode of the free superelement (rigid modes
-    skipped).  The shape is scaled to a largest displacement of 1.
+    skipped).
     """
     if mode < 1:
         raise ValueError(f"mode numbers start at 1, got {mode}")
@@ -73,6 +74,13 @@ def mode_shape(se: Superelement, mode: int, boundary: str = "fixed"):
         q, freq = Q[:, k], float(np.sqrt(max(w[k], 0.0)) / (2 * np.pi))
     else:
         raise ValueError(f"boundary must be 'fixed' or 'free', got '{boundary}'")
+    return freq, q / np.sqrt(float(q @ se.M @ q))
+
+
+def mode_shape(se: Superelement, mode: int, boundary: str = "fixed"):
+    """Frequency [Hz] and (n_nodes, 3) shape of mode number ``mode`` (1-based), as
+    :func:`mode_coordinates` chooses it, scaled to a largest displacement of 1."""
+    freq, q = mode_coordinates(se, mode, boundary)
     u = se.expand(q)
     peak = np.abs(u).max()
     return freq, u / (peak if peak > 0 else 1.0)

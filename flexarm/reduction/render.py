@@ -20,15 +20,13 @@ import numpy as np
 
 from ..fe.errors import FlexarmError, require
 from ..fe.picture_cache import cached_picture
-from .recovery import mode_shape
+from .mode_file import MODE_EXTENSIONS, write_mode_mesh
+from .recovery import mode_coordinates, mode_shape
 from .superelement import Superelement
 from .tolerances import tol
 
 __all__ = ["render_backend", "prefetch_render_backend", "has_display", "render_field",
            "render_mode", "write_mode", "MODE_EXTENSIONS", "scene_key", "probe_key"]
-
-#: Mode-shape files for ParaView (and any VTK reader), written with meshio.
-MODE_EXTENSIONS = (".vtu", ".vtk")
 
 log = logging.getLogger(__name__)
 
@@ -286,34 +284,20 @@ def render_mode(se: Superelement, mode: int, path=None, boundary: str | None = N
     return render_field(se, u, path, title, **options)
 
 
-def write_mode(se: Superelement, mode: int, path, boundary: str | None = None) -> Path:
-    """Mode ``mode`` (1-based) on the surface mesh as a ``.vtu`` or ``.vtk`` file.
-
-    Point data ``mode_shape`` (p, 3) is the recovered shape of
-    :func:`~flexarm.reduction.recovery.mode_shape` (largest displacement 1, link frame)
-    at each surface vertex, and ``magnitude`` its length; ``freq_hz`` is field data.
-    In ParaView: *Warp By Vector* on ``mode_shape``.  ``boundary`` as in
+def write_mode(se: Superelement, mode: int, path, boundary: str | None = None,
+               amplitude: float | None = None) -> Path:
+    """Mode ``mode`` (1-based) on the surface mesh as a ``.vtu`` or ``.vtk`` file
+    (:func:`~flexarm.reduction.mode_file.write_mode_mesh`: point data ``mode_shape`` in
+    the link frame, mass-normalised with the superelement's ``M`` or scaled to a largest
+    displacement of ``amplitude`` [m]; the mode number, frequency and scale as field
+    data).  In ParaView: *Warp By Vector* on ``mode_shape``.  ``boundary`` as in
     :func:`render_mode`.
     """
-    import meshio
-
-    path = Path(path)
-    if path.suffix.lower() not in MODE_EXTENSIONS:
-        raise ValueError(f"mode-shape file must be {' or '.join(MODE_EXTENSIONS)}, got '{path}'")
     if boundary is None:
         boundary = "fixed" if mode <= se.n_modes else "free"
-    freq, u = mode_shape(se, mode, boundary)
+    if Path(path).suffix.lower() not in MODE_EXTENSIONS:  # before the solve
+        raise ValueError(f"mode-shape file must be {' or '.join(MODE_EXTENSIONS)}, got '{path}'")
+    freq, q = mode_coordinates(se, mode, boundary)
     _surface(se)  # a superelement without a surface mesh fails with its one-line reason
-    us = np.asarray(u, dtype=float)[se.surface_nodes]
-    mesh = meshio.Mesh(np.asarray(se.surface_points, dtype=float),
-                       [("triangle", np.asarray(se.surface_faces, dtype=np.int64))],
-                       point_data={"mode_shape": us, "magnitude": np.linalg.norm(us, axis=1)},
-                       field_data={"freq_hz": np.array([freq])})
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.tmp{path.suffix}")
-    try:
-        meshio.write(tmp, mesh)
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-    return path
+    u = se.expand(q)[se.surface_nodes]
+    return write_mode_mesh(path, se.surface_points, se.surface_faces, u, mode, freq, amplitude)

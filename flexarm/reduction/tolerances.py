@@ -18,6 +18,9 @@ class Tolerances:
     file_symmetry: float = 1e-10
     #: Most negative eigenvalue of a loaded K accepted, relative to its largest.
     file_psd: float = 1e-8
+    #: Largest ``|A_ij - A_ji| / sqrt(|A_ii A_jj|)`` of a matrix written to OP4 as
+    #: symmetric (form 6): round-off of an assembly, far below any modelling asymmetry.
+    op4_symmetry: float = 1e-12
     #: Render-probe subprocess time limit [s].
     render_probe_seconds: float = 60.0
 

@@ -104,12 +104,23 @@ class ComplianceReport:
         return "\n".join(lines)
 
     def write_csv(self, path) -> Path:
-        """The 6 x 6 compliance as CSV (rows/columns x, y, z, rx, ry, rz; SI units,
-        translations in m/N, rotations in rad/(N m)), written atomically."""
-        names = ["x", "y", "z", "rx", "ry", "rz"]
-        lines = ["row," + ",".join(f"C_{n}" for n in names)]
-        lines += [f"{n}," + ",".join(f"{v:.10g}" for v in row)
-                  for n, row in zip(names, self.C, strict=True)]
+        """The 6 x 6 compliance as CSV in its four blocks, one unit per column, written
+        atomically.
+
+        One row per axis ``x``, ``y``, ``z`` of the response (base frame); per load axis
+        ``j``: ``C_u_Fj_m_per_N`` (TCP translation per force), ``C_rot_Fj_rad_per_N``
+        (rotation per force), ``C_u_Mj_m_per_Nm`` (translation per moment [m/(N m)]) and
+        ``C_rot_Mj_rad_per_Nm`` (rotation per moment [rad/(N m)]).  The first three
+        columns after ``axis`` are the translational block the ``compliance`` command
+        prints.
+        """
+        blocks = [("u", "F", "m_per_N", self.C[:3, :3]), ("rot", "F", "rad_per_N", self.C[3:, :3]),
+                  ("u", "M", "m_per_Nm", self.C[:3, 3:]),
+                  ("rot", "M", "rad_per_Nm", self.C[3:, 3:])]
+        head = ["axis"] + [f"C_{r}_{f}{d}_{unit}" for r, f, unit, _ in blocks for d in _XYZ]
+        values = np.hstack([B for *_, B in blocks])
+        lines = [",".join(head)] + [f"{d}," + ",".join(f"{v:.10g}" for v in row)
+                                    for d, row in zip(_XYZ, values, strict=True)]
         with atomic_path(path) as tmp:
             tmp.write_text("\n".join(lines) + "\n")
         return Path(path)

@@ -54,12 +54,20 @@ class FrfReport:
         return "\n".join(lines)
 
     def write(self, folder) -> list[Path]:
-        """``frf_bode.png`` and ``frf.csv`` (frequency [Hz]; real and imaginary parts of
-        H_xx, H_yy, H_zz [m/N]) in ``folder``."""
+        """``frf_bode.png`` and ``frf.csv`` in ``folder``.
+
+        ``frf.csv``: ``freq_Hz``, then the real and imaginary parts of the translational
+        receptance ``H_ij`` [m/N] (TCP displacement along ``i`` per force along ``j``, base
+        frame): the driving points ``xx``, ``yy``, ``zz`` first (the curves of the plot),
+        then the cross terms ``xy``, ``xz``, ``yx``, ``yz``, ``zx``, ``zy``.
+        """
         folder = Path(folder)
         png = plot_frf(folder / "frf_bode.png", self.freq_hz, self.H, self.title)
-        cols = ["freq_Hz"] + [f"{p}_H{d}{d}_m_per_N" for d in _XYZ for p in ("re", "im")]
-        rows = np.column_stack([self.freq_hz] + [part(self.H[:, d, d]) for d in range(3)
+        pairs = [(d, d) for d in range(3)] + [(i, j) for i in range(3) for j in range(3)
+                                              if i != j]
+        cols = ["freq_Hz"] + [f"{p}_H{_XYZ[i]}{_XYZ[j]}_m_per_N" for i, j in pairs
+                              for p in ("re", "im")]
+        rows = np.column_stack([self.freq_hz] + [part(self.H[:, i, j]) for i, j in pairs
                                                  for part in (np.real, np.imag)])
         csv = folder / "frf.csv"
         with atomic_path(csv) as tmp:

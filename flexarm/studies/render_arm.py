@@ -253,20 +253,19 @@ def _title(arm: Arm, pose_name: str, mode: int, freq: float) -> str:
             .replace("  ", " "))
 
 
-def write_arm_mode(arm: Arm, q: ArrayLike, mode: int, path, pose_name: str = "") -> Path:
+def write_arm_mode(arm: Arm, q: ArrayLike, mode: int, path, pose_name: str = "",
+                   amplitude: float | None = None) -> Path:
     """Mode ``mode`` (1-based) of ``arm`` at pose ``q`` [rad] as a ``.vtu`` or ``.vtk``
     surface mesh of all links (base frame, undeformed points at the pose [m]).
 
-    Point data ``mode_shape`` (p, 3) is the recovered displacement of each vertex,
-    scaled so that the largest is 1, and ``magnitude`` its length; cell data ``link``
-    is the index of each triangle's link in ``arm.robot.links``, and ``freq_hz`` the
-    mode's frequency [Hz] (the same on every cell).  In ParaView: *Warp By Vector* on
-    ``mode_shape``.
+    Point data ``mode_shape`` (p, 3) is the recovered displacement of each vertex of the
+    mass-normalised arm mode (``phi^T M phi = 1`` on the arm's coordinates), or scaled to a
+    largest displacement of ``amplitude`` [m]; the mode number, its frequency [Hz] and the
+    scale are field data (:mod:`~flexarm.reduction.mode_file`); cell data ``link`` is the
+    index of each triangle's link in ``arm.robot.links``.  In ParaView: *Warp By Vector*
+    on ``mode_shape``.
     """
-    import meshio
-
-    from ..fe.files import atomic_path
-    from ..reduction.render import MODE_EXTENSIONS
+    from ..reduction.mode_file import MODE_EXTENSIONS, write_mode_mesh
 
     path = Path(path)
     if path.suffix.lower() not in MODE_EXTENSIONS:
@@ -274,17 +273,10 @@ def write_arm_mode(arm: Arm, q: ArrayLike, mode: int, path, pose_name: str = "")
     freq, fields = mode_fields(arm.robot, arm.model, q, mode, arm.builds)
     live = [(k, f) for k, f in enumerate(fields) if len(f.points)]
     offsets = np.cumsum([0] + [len(f.points) for _, f in live])
-    points = np.vstack([f.points for _, f in live])
     faces = np.vstack([f.faces + o for (_, f), o in zip(live, offsets, strict=False)])
-    u = np.vstack([f.u for _, f in live])
-    u = u / max(float(np.linalg.norm(u, axis=1).max()), np.finfo(float).tiny)
     link = np.concatenate([np.full(len(f.faces), k, dtype=np.int32) for k, f in live])
-    mesh = meshio.Mesh(points, [("triangle", faces.astype(np.int64))],
-                       point_data={"mode_shape": u, "magnitude": np.linalg.norm(u, axis=1)},
-                       # meshio drops VTU/VTK field data: the frequency rides as cell data
-                       cell_data={"link": [link], "freq_hz": [np.full(len(link), freq)]})
-    with atomic_path(path) as tmp:
-        meshio.write(tmp, mesh, file_format="vtu" if path.suffix.lower() == ".vtu" else "vtk")
+    write_mode_mesh(path, np.vstack([f.points for _, f in live]), faces,
+                    np.vstack([f.u for _, f in live]), mode, freq, amplitude, {"link": link})
     log.info("wrote %s (%s, mode %d at %s)", path, _title(arm, pose_name, mode, freq), mode,
              pose_name or "the pose")
     return path

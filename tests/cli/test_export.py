@@ -50,6 +50,12 @@ def test_export_exudyn_checks_and_writes_a_script(tmp_path, capsys):
     assert "Exudyn vs flexarm" in out and f"wrote {path}" in out
     rows = [r.split() for r in out.splitlines() if r.strip()[:1].isdigit()]
     assert len(rows) == 10 and max(abs(float(r[3])) for r in rows) < 1e-6  # diff in %
+    # self-contained by default: the E-model has no link files, only the assembly
+    assert f"wrote {path.with_suffix('.npz')}" in out and "import flexarm" not in path.read_text()
+    with np.load(path.with_suffix(".npz")) as d:
+        assert not any(d["link_files"]) and d["gravity"][2] == -9.80665
+    assert main(["export-exudyn", "--model", "emodel", "--pose", "P1", "-q", "--no-check",
+                 "--no-self-contained", "-o", str(path)]) == 0
     assert "ArmSpec(model='emodel'" in path.read_text()
 
 

@@ -1,3 +1,4 @@
+import numpy as np
 import pytest
 
 from flexarm.cli import main
@@ -34,6 +35,27 @@ def test_reduce_exports(part, tmp_path, fmt, ext):
     assert main(["reduce", str(part), *IFACES, "--method", "guyan", "--backend", "splu",
                  "-o", str(out), "--format", fmt]) == 0
     assert formats.read(out).n_dofs == 12
+
+
+def test_reduce_writes_op4(part, tmp_path):
+    """``--format op4`` on reduce and convert: the superelement's K and M, symmetric."""
+    op4 = pytest.importorskip("pyNastran.op4.op4", reason="pyNastran reads OP4 independently")
+    ref = tmp_path / "bar.h5"
+    args = [str(part), *IFACES, "--method", "guyan", "--backend", "splu"]
+    assert main(["reduce", *args, "-o", str(ref)]) == 0
+    assert main(["reduce", *args, "--format", "op4", "-o", str(tmp_path / "bar.op4")]) == 0
+    assert main(["convert", str(ref), "--format", "op4", "-o", str(tmp_path / "c.op4")]) == 0
+    se = formats.read(ref)
+    for name in ("bar.op4", "c.op4"):
+        back = op4.read_op4(str(tmp_path / name), precision="default", debug=False)
+        assert back["KAAX"].form == back["MAAX"].form == 6
+        assert np.array_equal(back["KAAX"].data, se.K) and np.array_equal(back["MAAX"].data, se.M)
+
+
+def test_format_choices_are_the_registry():
+    from flexarm.cli.part import _SE_FORMATS
+
+    assert _SE_FORMATS == formats.registry.names()
 
 
 def test_reduce_errors_are_one_line(part, tmp_path, capsys):

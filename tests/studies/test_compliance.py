@@ -45,3 +45,16 @@ def test_dataframe_one_row_per_direction(report):
     assert np.allclose(f["sag_mm"], 1e3 * report.sag[:3], rtol=1e-15)
     assert np.array_equal(f["error_diag"], report.error_diag)
     assert f["deflection_mm"].idxmax() == report.weakest
+
+
+def test_csv_has_one_unit_per_column_and_the_whole_matrix(report, tmp_path):
+    path = report.write_csv(tmp_path / "compliance.csv")
+    head = path.read_text().splitlines()[0].split(",")
+    rows = np.loadtxt(path, delimiter=",", skiprows=1, usecols=range(1, 13))
+    assert head[0] == "axis" and len(head) == 13
+    units = {"u_F": "m_per_N", "rot_F": "rad_per_N", "u_M": "m_per_Nm", "rot_M": "rad_per_Nm"}
+    for name in head[1:]:
+        kind = "_".join(name.split("_")[1:3])[:-1]  # C_u_Fx_m_per_N -> u_F
+        assert name.endswith("_" + units[kind]), name
+    C = np.block([[rows[:, 0:3], rows[:, 6:9]], [rows[:, 3:6], rows[:, 9:12]]])
+    np.testing.assert_allclose(C, report.C, rtol=1e-9, atol=0)

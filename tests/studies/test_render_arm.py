@@ -163,8 +163,11 @@ def test_cli_show_arm(box_robot, cached_arm, tmp_path, monkeypatch, gl):
     monkeypatch.setattr(arm_module, "build_arm", fake)
     out = tmp_path / "arm_mode2.png"
     assert main(["show-arm", "--robot", str(box_robot.source), "--pose", "P2", "--mode", "2",
-                 "--ellipsoid", "-o", str(out)]) == 0
+                 "--model", "cb", "--ellipsoid", "-o", str(out)]) == 0
     assert seen == {"model": "cb"} and out.stat().st_size > 0
+    assert main(["show-arm", "--robot", str(box_robot.source), "--pose", "P2",
+                 "-o", str(tmp_path / "default.png")]) == 0
+    assert seen == {"model": "emodel"}  # the default of every arm command
     assert main(["show-arm", "--robot", str(box_robot.source), "--mode", "99",
                  "-o", str(out)]) == 2  # clear error, no traceback
 
@@ -257,13 +260,20 @@ def test_arm_mode_vtu_is_the_recovered_field(box_robot, cached_arm, tmp_path):
     q = box_robot.pose("P2")
     path = write_arm_mode(cached_arm, q, 2, tmp_path / "arm.vtu", "P2")
     m = meshio.read(path)
-    freq, fields = mode_fields(box_robot, cached_arm.model, q, 2, cached_arm.builds)
+    # the mass-normalised mode, normalised here with the assembled mass matrix
+    sm = system_matrices(cached_arm.model, q)
+    md = modes(cached_arm.model, q)
+    x = md.shapes[:, 1] / np.sqrt(md.shapes[:, 1] @ sm.M @ md.shapes[:, 1])
+    fields = link_fields(box_robot, cached_arm.model, q, x, cached_arm.builds)
     pts = np.vstack([f.points for f in fields])
     u = np.vstack([f.u for f in fields])
-    u = u / np.linalg.norm(u, axis=1).max()
     np.testing.assert_allclose(m.points, pts, rtol=1e-12)
-    np.testing.assert_allclose(m.point_data["mode_shape"], u, rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(m.cell_data["freq_hz"][0], freq, rtol=1e-12)
+    scale = np.abs(u).max()
+    np.testing.assert_allclose(m.point_data["mode_shape"], u, rtol=1e-9, atol=1e-12 * scale)
+    assert m.field_data["mode"].tolist() == [2] and m.field_data["modal_mass"].tolist() == [1.0]
+    assert m.field_data["freq_hz"][0] == pytest.approx(md.freq_hz[1], rel=1e-12)
+    assert m.field_data["max_displacement"][0] == pytest.approx(
+        np.linalg.norm(u, axis=1).max(), rel=1e-9)
     tri = m.cells_dict["triangle"]
     assert len(tri) == sum(len(f.faces) for f in fields) and tri.max() == len(pts) - 1
     link = m.cell_data["link"][0]
@@ -284,12 +294,25 @@ def test_cli_show_arm_vtu(box_robot, cached_arm, tmp_path, monkeypatch):
     assert main(["show-arm", "--robot", str(box_robot.source), "--pose", "P1", "--mode", "1",
                  "-o", str(out)]) == 0
     m = meshio.read(out)
-    assert np.isclose(np.linalg.norm(m.point_data["mode_shape"], axis=1).max(), 1.0)
+    assert main(["show-arm", "--robot", str(box_robot.source), "--pose", "P1", "--mode", "1",
+                 "--max-displacement", "0.002", "-o", str(tmp_path / "a.vtu")]) == 0
+    a = meshio.read(tmp_path / "a.vtu")
+    assert np.linalg.norm(a.point_data["mode_shape"], axis=1).max() == pytest.approx(2e-3)
+    # the scale is stated: mass-normalised shape x s, generalised mass s^2
+    s = 2e-3 / np.linalg.norm(m.point_data["mode_shape"], axis=1).max()
+    np.testing.assert_allclose(a.point_data["mode_shape"], s * m.point_data["mode_shape"],
+                               rtol=1e-12, atol=1e-15)
+    assert a.field_data["modal_mass"][0] == pytest.approx(s * s, rel=1e-12)
+    assert a.field_data["max_displacement"][0] == pytest.approx(2e-3, rel=1e-12)
     assert main(["show-arm", "--robot", str(box_robot.source), "--ellipsoid",
                  "-o", str(tmp_path / "e.vtu")]) == 2
     assert not (tmp_path / "e.vtu").exists()
     pv = pytest.importorskip("pyvista")
-    assert pv.read(out).n_points == len(m.points)
+    legacy = pv.read(out)  # the legacy file's field data, read by VTK itself
+    assert legacy.n_points == len(m.points)
+    assert int(legacy.field_data["mode"][0]) == 1 and legacy.field_data["modal_mass"][0] == 1.0
+    assert legacy.field_data["freq_hz"][0] == pytest.approx(a.field_data["freq_hz"][0],
+                                                            rel=1e-15)
 
 
 def test_arm_pictures_come_from_the_cache_until_what_they_show_changes(

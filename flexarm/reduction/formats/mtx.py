@@ -1,8 +1,14 @@
 """Matrix Market bundle: a folder ``NAME.mtx/`` with ``K.mtx``, ``M.mtx`` and
 ``superelement.json`` (interfaces, frames, frequencies, mass properties, hash).
 
-Matrix Market is read by MATLAB (``mmread``), Julia (MatrixMarket.jl), SciPy and most
-sparse libraries.  The recovery matrix and surface mesh are not part of this export.
+Each matrix is written as ``coordinate real general``: every non-zero entry of both
+triangles, at full double precision (the shortest decimal that reads back to the same
+float64).  That is the one form every reader takes as it is: Eigen's ``loadMarket``
+ignores the symmetry in the header (a ``symmetric`` file comes back as its lower
+triangle) and returns an empty matrix for the dense ``array`` form; MATLAB's and SciPy's
+``mmread`` and Julia's MatrixMarket.jl read it as well.  The bundle folder and its files
+get the permissions the umask gives.  The recovery matrix and surface mesh are not part
+of this export.
 ``superelement.json`` also holds the ``checksum`` of the content as read back (the two
 matrices and the metadata, :mod:`~flexarm.reduction.formats._checksum`), verified on
 reading.
@@ -17,8 +23,10 @@ from pathlib import Path
 
 import numpy as np
 import scipy.io
+import scipy.sparse as sp
 
 from ...fe.errors import ReadError
+from ...fe.files import umask_mode
 from ..superelement import Superelement, from_arrays
 from ._checksum import CHECKSUM_KEY, content_checksum, verify_checksum
 from ._meta import meta_from_json, meta_json
@@ -33,13 +41,15 @@ def write(path, se: Superelement) -> None:
     tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
     try:
         for name in ("K", "M"):
-            scipy.io.mmwrite(tmp / f"{name}.mtx", np.asarray(getattr(se, name)),
+            # "general": with symmetry=None SciPy would find the symmetry and keep one triangle
+            scipy.io.mmwrite(tmp / f"{name}.mtx", sp.coo_matrix(np.asarray(getattr(se, name))),
                              comment=f"flexarm superelement {name} (SI units)",
-                             symmetry="symmetric")
+                             symmetry="general")
         # the checksum is of what a reader gets back from the text just written
         d = meta_from_json(meta_json(se))
         d.update(_matrices(tmp, tmp))
         (tmp / "superelement.json").write_text(meta_json(se, content_checksum(d)) + "\n")
+        os.chmod(tmp, umask_mode(0o777))  # mkdtemp made it private
         if path.is_dir() and (path / "superelement.json").exists():
             shutil.rmtree(path)
         os.replace(tmp, path)

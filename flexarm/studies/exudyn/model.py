@@ -37,7 +37,8 @@ from .bodies import FFRFLink, ffrf_link
 from .damping import ProportionalDamping, fit_damping
 
 __all__ = ["require_exudyn", "ExudynArm", "ExudynCheck", "exudyn_arm", "exudyn_check", "ffrf_links",
-           "exudyn_frequencies", "exudyn_static_tcp", "exudyn_gravity_sag"]
+           "exportable", "ffrf_interface", "exudyn_frequencies", "exudyn_static_tcp",
+           "exudyn_gravity_sag"]
 
 log = logging.getLogger(__name__)
 
@@ -63,7 +64,7 @@ def simulation_settings():
     writes ``solution/coordinatesSolution.txt`` into the working folder, which is not
     where flexarm's outputs go."""
     sims = _exudyn().SimulationSettings()
-    sims.solutionSettings.writeSolutionToFile = False
+    sims.solution.file.write = False
     return sims
 
 
@@ -128,7 +129,11 @@ def ffrf_links(arm: Arm, progress: Callable[[str], None] | None = None) -> list:
     return out
 
 
-def _add_ffrf(exu, mbs, link: FFRFLink, frame: FloatArray, gravity, beta: float) -> dict:
+def ffrf_interface(link: FFRFLink):
+    """Exudyn's ``ObjectFFRFreducedOrderInterface`` of ``link``: the floating-frame
+    inertia terms integrated over its points, the mode basis, and our reduced stiffness
+    (``cms.SaveToFile`` writes it for a model without flexarm)."""
+    _exudyn()
     from exudyn.FEM import FEMinterface, ObjectFFRFreducedOrderInterface
 
     fem = FEMinterface()
@@ -138,10 +143,13 @@ def _add_ffrf(exu, mbs, link: FFRFLink, frame: FloatArray, gravity, beta: float)
     fem.modeBasis = {"matrix": link.Psi, "type": "HCBmodes"}
     cms = ObjectFFRFreducedOrderInterface(fem)
     cms.stiffnessMatrixReduced = link.K.copy()
-    ids = cms.AddObjectFFRFreducedOrder(mbs, positionRef=frame[:3, 3],
-                                        rotationMatrixRef=frame[:3, :3],
-                                        stiffnessProportionalDamping=beta,
-                                        gravity=list(gravity), name=link.name)
+    return cms
+
+
+def _add_ffrf(exu, mbs, link: FFRFLink, frame: FloatArray, gravity, beta: float) -> dict:
+    ids = ffrf_interface(link).AddObjectFFRFreducedOrder(
+        mbs, positionRef=frame[:3, 3], rotationMatrixRef=frame[:3, :3],
+        stiffnessProportionalDamping=beta, gravity=list(gravity), name=link.name)
     return {"object": ids["oFFRFreducedOrder"], "node": ids["nRigidBody"],
             "modal": ids["nGenericODE2"], "link": link}
 
@@ -186,6 +194,18 @@ def _joint_stiffness(jm) -> tuple[FloatArray, list[int]]:
     return np.where(free, k, 0.0), [0 if f else 1 for f in free]
 
 
+
+def exportable(arm):
+    """``arm.model`` if Exudyn can take it: reduced links (superelements) and no coupled
+    wrist stiffness; else ``ValueError`` saying what to export instead."""
+    model = arm.model
+    if not hasattr(model, "layout"):
+        raise ValueError("the full-FE arm has no superelements: export a reduced model "
+                         "(guyan, cb, or the E-model)")
+    if model.wrist_stiffness is not None:
+        raise ValueError("a coupled wrist stiffness is not in the Exudyn model yet")
+    return model
+
 def exudyn_arm(arm: Arm, q: ArrayLike, gravity: ArrayLike | None = GRAVITY,
                links: list | None = None, damping: ProportionalDamping | None = None,
                progress: Callable[[str], None] | None = None) -> ExudynArm:
@@ -198,12 +218,7 @@ def exudyn_arm(arm: Arm, q: ArrayLike, gravity: ArrayLike | None = GRAVITY,
     exu = _exudyn()
     import exudyn.itemInterface as eii
 
-    model = arm.model
-    if not hasattr(model, "layout"):
-        raise ValueError("the full-FE arm has no superelements: export a reduced model "
-                         "(guyan, cb, or the E-model)")
-    if model.wrist_stiffness is not None:
-        raise ValueError("a coupled wrist stiffness is not in the Exudyn model yet")
+    model = exportable(arm)
     q = np.asarray(q, dtype=float)
     g = [0.0, 0.0, 0.0] if gravity is None else [float(v) for v in gravity]
     links = ffrf_links(arm, progress) if links is None else links
