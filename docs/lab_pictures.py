@@ -41,8 +41,9 @@ PICTURES = {
 }
 
 
-def make_pictures(out: Path) -> list[Path]:
-    """Run :data:`STEPS` in a temporary folder; copy :data:`PICTURES` into ``out``."""
+def make_pictures(out: Path, steps=STEPS, pictures=None) -> list[Path]:
+    """Run ``steps`` (flexarm command lines) in a temporary folder; copy ``pictures``
+    (default :data:`PICTURES`) into ``out``."""
     out = out.resolve()
     out.mkdir(parents=True, exist_ok=True)
     here = Path.cwd()
@@ -50,10 +51,10 @@ def make_pictures(out: Path) -> list[Path]:
     with tempfile.TemporaryDirectory() as tmp:
         os.chdir(tmp)
         try:
-            for step in STEPS:
+            for step in steps:
                 if flexarm(step + ["-q"]) != 0:
                     raise SystemExit(f"flexarm {' '.join(step)} failed")
-            for src, name in PICTURES.items():
+            for src, name in (PICTURES if pictures is None else pictures).items():
                 written.append(Path(shutil.copyfile(src, out / name)))
         finally:
             os.chdir(here)

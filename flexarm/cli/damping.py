@@ -68,6 +68,9 @@ def _add_check_damping(p: argparse.ArgumentParser) -> None:
                    help="relative scatter of an identified damping ratio [%%]")
     p.add_argument("--alpha", type=float, default=0.01,
                    help="chance of accepting a joint on damping-correct data (at most)")
+    p.add_argument("--plot", type=Path, default=None, metavar="PNG",
+                   help="also draw each mode's measured/model damping ratio against each "
+                        "joint's energy share")
     _add_max_hz(p)
 
 
@@ -80,6 +83,9 @@ def _run_check_damping(args) -> int:
         raise ValueError(f"--sigma-pct {args.sigma_pct}: must lie in (0, 100)")
     if not 0 < args.alpha < 1:
         raise ValueError(f"--alpha {args.alpha}: must lie in (0, 1)")
-    out(diagnose_damping(args.modal, args.robot, args.sigma_pct / 100, args.alpha,
-                         max_hz=args.max_hz, pose=args.pose).text())
+    res = diagnose_damping(args.modal, args.robot, args.sigma_pct / 100, args.alpha,
+                           max_hz=args.max_hz, pose=args.pose)
+    out(res.text())
+    if args.plot is not None:
+        wrote([res.plot(args.plot)])
     return 0

@@ -49,9 +49,11 @@ def test_cli_check_damping_names_the_joint(tmp_path, capsys):
     lab = run_lab(robot_with_damping(load_demo_robot(), z), poses="P1,P2,P3",
                   loads="0:100:100", dirs="z", modal=True, n_modes=8)
     modal = write_modal(tmp_path / "modal.csv", lab.shapes)
-    assert main(["check-damping", str(modal), "--sigma-pct", "3"]) == 0
+    png = tmp_path / "damping.png"
+    assert main(["check-damping", str(modal), "--sigma-pct", "3", "--plot", str(png)]) == 0
     text = capsys.readouterr().out
     assert "joint_5" in text.split("<- missing damping")[0].splitlines()[-1]
     assert text.count("<- missing damping") == 1
+    assert f"wrote {png}" in text and png.stat().st_size > 10_000
     assert main(["check-damping", str(modal), "--max-hz", "1"]) == 2
     assert "at least 3 matched modes" in capsys.readouterr().err

@@ -96,7 +96,7 @@ def test_every_arm_command_accepts_model_cb(arm, lab_csv, command, tmp_path):
     opts, pose, poses = arm[:3]
     extra = {"modes": ["--pose", pose], "compliance": ["--pose", pose],
              "frf": ["--pose", pose], "map": ["--n", "6"], "chatter": ["--pose", pose],
-             "chatter-map": [], "circle": [],
+             "chatter-map": ["--n", "4"], "circle": [],
              "lab": ["--poses", poses, "--loads", "0:400:200", "--dirs", "y"],
              "compare": [str(lab_csv)], "diagnose": [str(lab_csv)]}[command]
     out = tmp_path / ("lab.csv" if command == "lab" else "out")
@@ -166,3 +166,14 @@ def test_compare_models_defaults_to_the_robots_named_poses(arm, tmp_path):
     table = (tmp_path / "model_comparison.csv").read_text()
     assert all(f"\n{p}," in table for p in expected), table[:200]
     assert text.strip()
+
+
+def test_every_arm_command_defaults_to_the_emodel():
+    """One default model: a command that takes ``--model`` starts from the E-model."""
+    from flexarm.cli import parser
+
+    subs = next(a for a in parser()._subparsers._group_actions if a.dest == "command").choices
+    defaults = {name: sub.get_default("model") for name, sub in subs.items()
+                if any(a.dest == "model" for a in sub._actions)}
+    assert {"show-arm", "export-exudyn", "exudyn-impulse", "modes"} <= set(defaults)
+    assert set(defaults.values()) == {"emodel"}, defaults

@@ -193,6 +193,7 @@ def test_verdict_estimates_the_discretisation_error(study):
     assert discretisation_text(None).startswith("discretisation error: not estimated")
 
 
+@pytest.mark.slow  # a Tet10 full-FE reference at 25 mm: minutes
 def test_tet10_gives_a_lower_bound_of_the_mesh_error(study, box_robot):
     """Tet4 against Tet10 on the same grid bounds the Tet4 error from below (nested spaces,
     min-max): checked against a Tet10 model on a twice finer grid, which is closer to

@@ -73,6 +73,7 @@ class Outcome:
     accepted: tuple  # candidate names, in order
     unexplained: bool
     seconds: float
+    rel_sd: float = float("nan")  # sd / |value| of the first accepted amplitude
 
 
 def run_one(arm, hidden: str, seed: int, modal: bool = True) -> Outcome:
@@ -87,11 +88,23 @@ def run_one(arm, hidden: str, seed: int, modal: bool = True) -> Outcome:
     t = time.perf_counter()
     dg = diagnose(arm, data, SIGMA, modal=m, freq_noise=FREQ_NOISE, heldout=False)
     names = tuple(s.winner.name for s in dg.steps if s.accepted)
-    return Outcome(seed, names, dg.unexplained, time.perf_counter() - t)
+    first = next((s.winner for s in dg.steps if s.accepted), None)
+    rel = float("nan")
+    if first is not None and first.params:
+        value, sd = next(iter(first.params.values()))
+        rel = sd / abs(value) if value else float("nan")
+    return Outcome(seed, names, dg.unexplained, time.perf_counter() - t, rel)
 
 
-def sweep(arm, hidden: str, seeds=range(20), modal: bool = True) -> list[Outcome]:
-    return [run_one(arm, hidden, s, modal) for s in seeds]
+def sweep(arm, hidden: str, seeds=range(20), modal: bool = True,
+          verbose: bool = False) -> list[Outcome]:
+    out = []
+    for s in seeds:
+        out.append(run_one(arm, hidden, s, modal))
+        if verbose:  # a sweep runs for long: each diagnosis as it ends, on stderr
+            print(f"  {hidden or 'nothing'} seed {s}: {', '.join(out[-1].accepted) or '-'}"  # noqa: T201
+                  f" ({out[-1].seconds:.0f} s)", file=sys.stderr, flush=True)
+    return out
 
 
 def summary(hidden: str, want: tuple, outcomes: list[Outcome]) -> str:
@@ -99,21 +112,29 @@ def summary(hidden: str, want: tuple, outcomes: list[Outcome]) -> str:
         sum(not o.accepted for o in outcomes)
     wrong = sum(any(a not in want for a in o.accepted) for o in outcomes)
     secs = np.mean([o.seconds for o in outcomes])
+    rel = [o.rel_sd for o in outcomes if np.isfinite(o.rel_sd)]
+    width = f", median interval ±{100 * np.median(rel):.1f} %" if rel else ""
     return (f"{hidden or 'nothing hidden':34s} named first {first}/{len(outcomes)}, something "
             f"wrong accepted {wrong}/{len(outcomes)}, unexplained "
-            f"{sum(o.unexplained for o in outcomes)}, {secs:.1f} s per diagnosis")
+            f"{sum(o.unexplained for o in outcomes)}{width}, {secs:.1f} s per diagnosis")
 
 
-if __name__ == "__main__":  # python -m tests.validation.sweeps [N_SEEDS]
+if __name__ == "__main__":  # python -m tests.validation.sweeps [N_SEEDS [new|library|CAUSE]]
     import tempfile
 
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 20
+    # "new" or "library": one half of the sweep; any other text: the causes containing it
+    only = sys.argv[2] if len(sys.argv) > 2 else ""
     with tempfile.TemporaryDirectory() as tmp:
         _, arm = irb4600(Path(tmp))
         for hidden, name in NEW_CAUSES.items():
-            print(summary(hidden, (name,), sweep(arm, hidden, range(n))), flush=True)  # noqa: T201
+            if only == "new" or (only != "library" and only in hidden):
+                print(summary(hidden, (name,), sweep(arm, hidden, range(n), verbose=True)),  # noqa: T201
+                      flush=True)
         for hidden, names in LIBRARY.items():
             for modal in (False, True):
-                out = sweep(arm, hidden, range(n), modal)
+                if only == "new" or (only not in ("", "library") and only not in hidden):
+                    continue
+                out = sweep(arm, hidden, range(n), modal, verbose=True)
                 print(("static+modal " if modal else "static       ")  # noqa: T201
                       + summary(hidden, names, out), flush=True)

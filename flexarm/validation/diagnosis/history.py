@@ -93,13 +93,15 @@ def write_history(folder, diagnosis, nominal_rms: float | None = None,
     folder.mkdir(parents=True, exist_ok=True)
     rows = [{"version": i, "model": s.label, "chi2_red": s.chi2_red, "band_lo": s.band[0],
              "band_hi": s.band[1], "rms_fit_um": s.rms_fit * 1e6,
-             "rms_heldout_um": s.rms_heldout * 1e6} for i, s in enumerate(diagnosis.steps)]
+             "rms_heldout_um": s.rms_heldout * 1e6, "freq_rms_pct": 100 * s.freq_rms,
+             "unpaired_modes": s.n_unpaired} for i, s in enumerate(diagnosis.steps)]
     out = [folder / "history.csv", folder / "history.json", folder / "history.png"]
     # the nominal model's row first: the plot starts from it (fitted on every series,
     # so it has no held-out error)
     nominal = ([{"version": "nominal", "model": "nominal (as built)", "chi2_red": "",
                  "band_lo": "", "band_hi": "", "rms_fit_um": nominal_rms * 1e6,
-                 "rms_heldout_um": ""}] if nominal_rms is not None else [])
+                 "rms_heldout_um": "", "freq_rms_pct": "", "unpaired_modes": ""}]
+               if nominal_rms is not None else [])
     with open(out[0], "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()

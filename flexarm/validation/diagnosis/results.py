@@ -156,6 +156,10 @@ class Step:
         ``winner`` passed every check.
     explanation : str
         The winner explained in one sentence.
+    freq_rms : float
+        RMS relative error [-] of the paired measured frequencies (NaN: no modal data).
+    n_unpaired : int
+        Measured modes without a partner in this version.
     """
 
     label: str
@@ -169,6 +173,8 @@ class Step:
     winner: Winner | None = None
     accepted: bool = False
     explanation: str = ""
+    freq_rms: float = float("nan")
+    n_unpaired: int = 0
 
 
 @dataclass(frozen=True)

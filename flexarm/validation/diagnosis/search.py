@@ -30,7 +30,7 @@ from ..data.measurements import ModalData, StaticData
 from ..data.shape_data import Points, ShapeData
 from ..dynamic.modal import ModalProblem
 from ..dynamic.shape_fit import SHAPE_NOISE, ShapeProblem
-from ..static.candidates import Screen, library, load_proposal, screen, status_of
+from ..static.candidates import Screen, library, screen, status_of
 from ..static.fit import (
     MODEL_ERRORS,
     FitResult,
@@ -57,6 +57,8 @@ from .results import (
     Step,
     Winner,
 )
+from .versions import static_rms, untestable_detail
+from .versions import version as model_version
 
 __all__ = ["CandidateReport", "Checks", "Winner", "Step", "Identifiability", "Diagnosis",
            "Misfit", "diagnose"]
@@ -102,11 +104,6 @@ def _reason(exc: BaseException) -> str:
 def arm_joints(problem: Problem) -> int:
     """Number of baseline effects (one torsion scale per joint) in front of the others."""
     return problem.arm.chain.n_joints
-
-
-def _rms(problem: Problem, effects) -> float:
-    r = (problem.y - problem.predict(effects))[~problem.is_ref]
-    return float(np.sqrt(np.mean(r**2))) if r.size else float("nan")
 
 
 def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
@@ -169,7 +166,7 @@ def diagnose(arm: ArmModel, data: StaticData, sigma: float = tol.tracker_sigma,
                              channels)
     log.info("diagnosis done: %d effects accepted%s", len(dg.accepted),
              ", unexplained misfit" if verdict.unexplained else "")
-    notes = _notes(arm, problem, flexible, rs)
+    notes = static_notes(arm, flexible is not None, problem, rs)
     if isinstance(problem, ShapeProblem):
         notes += (problem.shape_note(dg.final_effects),)
     return replace(dg, misfit=verdict, notes=notes)
@@ -192,13 +189,11 @@ def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()
     n_shape = 0  # shape parameters (thresholds, radii) of the accepted effects: fixed, counted
     for it in range(max_effects + 1):
         fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
-        band = chi2_band(fr.dof)
         cur_ho = heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan
         if it == 0:
             ident = replace(identifiability(problem, fr), leave_one_pose_out=leave_one_pose_out(
                 problem, effects, free, scales, prior))
-        version = Step(label, fr.effects, fr.chi2_red, band, fr.dof, _rms(problem, fr.effects),
-                       cur_ho)
+        version = model_version(problem, label, fr, cur_ho)
         step, refit = _round(problem, fr, version, cands, accepted, free, scales, prior, n_shape,
                              heldout, poses)
         steps.append(step)
@@ -216,11 +211,11 @@ def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()
                 log.info("shape search again failed: %s", _reason(exc))
     if steps[-1].accepted:  # the loop ran out of iterations after an acceptance
         fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
-        steps.append(_last_version(problem, label, fr, effects, free, scales, prior,
-                                   heldout))
+        steps.append(model_version(problem, label, fr, heldout_rms(
+            problem, effects, free, scales, prior) if heldout else np.nan))
     final = tuple(steps[-1].effects)
     return Diagnosis(tuple(steps), ident, final[n_base:], final,
-                     _notes(arm, problem, problem.flexible)), fr
+                     static_notes(arm, problem.flexible is not None, problem, None)), fr
 
 
 def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, prior,
@@ -359,7 +354,7 @@ def _refit_best(problem: Problem, fr, best: Screen, screens, free, scales, prior
         grid_name=c.grid_name,
         grid_value=None if c.grid_name is None else fr2.effects[-1].get(c.grid_name),
         grid_sd=grid_sd, checks=checks, chi2_red_after=fr2.chi2_red,
-        rms_heldout_after=new_ho, rms_fit_after=_rms(problem, fr2.effects))
+        rms_heldout_after=new_ho, rms_fit_after=static_rms(problem, fr2.effects))
     return _Refit(winner, fr2, free2, scales2, tuple(proxies),
                   explain(problem, c, fr2.effects[-1], theta, se))
 
@@ -383,7 +378,7 @@ def _status(problem: Problem, fr, s: Screen, best: Screen | None, refit: _Refit 
     c = s.candidate
     winner = None if refit is None else refit.winner
     if st == "untestable":
-        return st, _untestable_detail(problem, c, poses)
+        return st, untestable_detail(problem, c, poses)
     if st == "aliased":
         return st, (links_note(problem, fr, s, "aliased") if c.kind == "links"
                     else mimic(problem, fr, s))
@@ -400,30 +395,3 @@ def _status(problem: Problem, fr, s: Screen, best: Screen | None, refit: _Refit 
     if winner is not None and signature_corr(s.columns, best.columns) > tol.alias_correlation:
         return "aliased", f"with {winner.label} (same pattern on this data)"
     return "rejected", ""
-
-
-def _untestable_detail(problem: Problem, c, poses) -> str:
-    """Why candidate ``c`` cannot be tested on these data, and what data would test it."""
-    if c.joint is not None and not np.any(np.abs(problem.J[:, :, c.joint]) > 1e-9):
-        return (f"joint {c.joint + 1} turns the TCP about its own axis: invisible in "
-                f"TCP translations; measure TCP rotations (rx, ry, rz)")
-    if c.kind in ("backlash", "hysteresis"):
-        return "add these loads: " + load_proposal(problem, c.joint, c.kind, extra_poses=poses)
-    return "the data barely load it: add poses/loads that do"
-
-
-def _last_version(problem: Problem, label: str, fr, effects, free, scales, prior,
-                  heldout: bool) -> Step:
-    """The model ``fr`` after the last acceptance when the rounds ran out (not screened)."""
-    return Step(label, fr.effects, fr.chi2_red, chi2_band(fr.dof), fr.dof,
-                _rms(problem, fr.effects),
-                heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan)
-
-
-def _notes(arm: ArmModel, problem: Problem, flexible: ArmModel | None,
-           structure=None) -> tuple[str, ...]:
-    """Effects these data cannot test."""
-    return static_notes(arm, flexible is not None, problem, structure)
-
-
-#END

@@ -22,11 +22,13 @@ chance of accepting anything stays below ``alpha``), its extra ratio is positive
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from scipy.optimize import nnls
 from scipy.stats import chi2 as chi2_dist
 
+from ...fe.plotting import pyplot, save_figure
 from ...fe.typing import PathType
 from ...robot.description import Robot
 from ..data.measurements import ModalData
@@ -99,6 +101,36 @@ class DampingDiagnosis:
             lines.append(f"damping misfit left (p = {self.p_after:.1g}): not explained by "
                          f"joint dampers")
         return "\n".join(lines)
+
+    def plot(self, path: PathType) -> Path:
+        """Measured over model damping ratio of each mode against each joint's share of
+        that mode's energy, one panel per joint, as a PNG: a joint that misses a damper
+        shows as ratios rising with its share."""
+        plt = pyplot()
+        n = len(self.joint_names)
+        cols = min(n, 3)
+        fig, axes = plt.subplots(-(-n // cols), cols, figsize=(3.2 * cols, 2.6 * -(-n // cols)),
+                                 sharey=True, squeeze=False)
+        for j, ax in enumerate(axes.flat):
+            if j >= n:
+                ax.set_visible(False)
+                continue
+            hit = j in self.accepted
+            ax.plot(100 * self.share[:, j], self.ratio, "o", ms=4,
+                    color="tab:red" if hit else "tab:blue")
+            ax.axhline(1.0, color="0.5", lw=0.8)
+            seen = "unseen" if np.isnan(self.gains[j]) else f"gain {self.gains[j]:.1f}"
+            ax.set_title(f"{self.joint_names[j]} ({seen})" + (": missing" if hit else ""),
+                         fontsize=9)
+            ax.set_xlim(-3, 103)
+            ax.grid(alpha=0.3)
+            if j % cols == 0:
+                ax.set_ylabel("measured / model ratio [-]")
+            if j >= n - cols:
+                ax.set_xlabel("joint's energy share [%]")
+        fig.suptitle(f"damping per mode, {self.n} modes (gain needed {self.threshold:.1f})",
+                     fontsize=10)
+        return save_figure(fig, path, dpi=110)
 
 
 def modal_overlap(freq_hz, damping_ratio, poses) -> np.ndarray:

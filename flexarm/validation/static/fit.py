@@ -263,7 +263,9 @@ def try_wpredict(problem: Problem, effects, rows=None) -> tuple[np.ndarray | Non
     """``(problem.wpredict(effects, rows), "")``, or ``(None, reason)`` when the model with
     these effects cannot be evaluated or predicts a non-finite value."""
     try:
-        f = problem.wpredict(effects, rows)
+        # an amplitude far out may overflow on the way; the result is checked below
+        with np.errstate(all="ignore"):
+            f = problem.wpredict(effects, rows)
     except MODEL_ERRORS as exc:
         return None, f"{type(exc).__name__}: {exc}".strip()
     if not np.all(np.isfinite(f)):

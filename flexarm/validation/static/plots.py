@@ -44,9 +44,18 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
         (``band_lo``, ``band_hi``) as the RMS band a perfect model falls in.
     what : str
         The model and poses, for the title (e.g. ``"E-model at P1, P2, P3"``).
+
+    Rows with a finite ``freq_rms_pct`` (modal data) add a second panel: the RMS error
+    [%] of the paired measured frequencies per version, with its unpaired modes.
     """
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(8, 3.6))
+    modal = [r for r in rows if np.isfinite(float(r.get("freq_rms_pct", np.nan) or np.nan))]
+    if modal:
+        fig, (ax, axf) = plt.subplots(1, 2, figsize=(12, 3.6),
+                                      gridspec_kw={"width_ratios": (3, 2), "wspace": 0.7})
+        _frequency_panel(axf, rows)
+    else:
+        fig, ax = plt.subplots(figsize=(8, 3.6))
     labels, fit, held = [], [], []
     if nominal_rms is not None:
         labels.append("nominal")
@@ -86,6 +95,21 @@ def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
                  + " -> ".join(
         (["nominal"] if nominal_rms is not None else []) + steps), fontsize=8)
     return save_figure(fig, path, dpi=90, bbox_inches="tight")
+
+
+def _frequency_panel(ax, rows: list[dict]) -> None:
+    """Bars of the paired frequencies' RMS error [%] per version, unpaired modes above."""
+    err = [float(r["freq_rms_pct"]) for r in rows]
+    x = np.arange(len(rows))
+    ax.bar(x, err, 0.5, color="tab:green")
+    for xi, e, r in zip(x, err, rows, strict=True):
+        n = int(r.get("unpaired_modes", 0) or 0)
+        if n:
+            ax.annotate(f"{n} unpaired", (xi, e), ha="center", va="bottom", fontsize=7)
+    ax.set_xticks(x, [f"v{r['version']}" for r in rows])
+    ax.set_xlabel("model version")
+    ax.set_ylabel("frequency RMS error [%]")
+    ax.set_title("measured modes (paired)", fontsize=8)
 
 
 def torque_joints(tau: FloatArray) -> np.ndarray:

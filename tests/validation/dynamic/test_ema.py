@@ -18,7 +18,8 @@ pytest.importorskip("sdypy.EMA")
 FREQ = 0.25 * np.arange(1, 669)
 
 
-@pytest.mark.parametrize("seed", [1, 2, 3])
+@pytest.mark.parametrize("seed", [1, pytest.param(2, marks=pytest.mark.slow),
+                                  pytest.param(3, marks=pytest.mark.slow)])
 def test_ema_recovers_the_first_six_modes_from_2pct_noisy_frfs(demo, seed):
     """References at the TCP (x, y, z), responses x, y, z at the 12 default points."""
     robot, arm = demo
