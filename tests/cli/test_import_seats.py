@@ -5,14 +5,12 @@ built is still written and the exit code says so."""
 
 from __future__ import annotations
 
-import contextlib
-import io
-
 import pytest
 
-from flexarm.cli import main
 from flexarm.robot.formats import toml
 from flexarm.robot.seat_review import is_review
+
+from ..cli_run import run_cli
 
 pytestmark = pytest.mark.filterwarnings("ignore:.*placeholder stiffness")
 
@@ -55,11 +53,7 @@ def urdf(tmp_path_factory):
     return path
 
 
-def _run(args):
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(args)
-    return code, out.getvalue(), err.getvalue()
+_run = run_cli
 
 
 def _regions(path):

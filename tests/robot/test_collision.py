@@ -4,8 +4,6 @@ folded onto the column) and three free ones; ``map`` masks the colliding grid po
 
 from __future__ import annotations
 
-import contextlib
-import io
 import re
 import warnings
 from pathlib import Path
@@ -15,16 +13,12 @@ import pytest
 
 from flexarm.robot.collision import CollisionChecker, PoseCheck
 
+from ..cli_run import run_cli
+
 URDF = Path(__file__).resolve().parents[3] / "shared/data/robots/fanuc_m20ia/urdf/m20ia.urdf"
 
 
-def _run(args):
-    from flexarm.cli import main
-
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(args)
-    return code, out.getvalue(), err.getvalue()
+_run = run_cli
 
 
 @pytest.fixture(scope="module")

@@ -14,8 +14,6 @@ cannot rise and its compliance cannot fall.
 
 from __future__ import annotations
 
-import contextlib
-import io
 import re
 
 import numpy as np
@@ -23,11 +21,11 @@ import pytest
 
 from flexarm.assembly.analyses import modes, tcp_compliance
 from flexarm.assembly.arm import ArmSpec, build_arm
-from flexarm.cli import main
 from flexarm.reduction.tolerances import tol as red_tol
 from flexarm.robot import load_robot
 from flexarm.robot.description import pose_from_string
 
+from ..cli_run import run_cli
 from ..irb4600 import COARSE, P1, P2, import_irb
 
 pytestmark = pytest.mark.filterwarnings("ignore:.*placeholder stiffness")
@@ -35,11 +33,7 @@ pytestmark = pytest.mark.filterwarnings("ignore:.*placeholder stiffness")
 LINKS = ("base_link", "link_1", "link_2", "link_3", "link_4", "link_5", "link_6")
 
 
-def _run(args: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(args)
-    return code, out.getvalue(), err.getvalue()
+_run = run_cli
 
 
 def mode_table(text: str) -> np.ndarray:

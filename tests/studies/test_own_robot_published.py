@@ -12,8 +12,6 @@ the first 10 frequencies.  Slow: the same at each robot's own 30 mm mesh.
 
 from __future__ import annotations
 
-import contextlib
-import io
 import re
 from pathlib import Path
 
@@ -22,9 +20,10 @@ import pytest
 
 from flexarm.assembly.analyses import modes
 from flexarm.assembly.arm import ArmSpec, build_arm
-from flexarm.cli import main
 from flexarm.robot import load_robot
 from flexarm.robot.description import pose_from_string
+
+from ..cli_run import run_cli
 
 pytestmark = pytest.mark.filterwarnings("ignore:.*placeholder stiffness")
 
@@ -38,11 +37,7 @@ ROBOTS = {
 POSE = "0,20,-20,0,30,0"
 
 
-def _run(args: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(args)
-    return code, out.getvalue(), err.getvalue()
+_run = run_cli
 
 
 def _import(name: str, folder: Path) -> tuple[str, Path, str, str]:

@@ -11,8 +11,6 @@ seat finder has to find every bearing seat itself: no ``[links.regions]`` is wri
 
 from __future__ import annotations
 
-import contextlib
-import io
 import math
 import re
 
@@ -21,9 +19,10 @@ import pytest
 
 from flexarm.assembly.analyses import modes, tcp_compliance
 from flexarm.assembly.arm import ArmSpec, build_arm
-from flexarm.cli import main
 from flexarm.robot import load_robot
 from flexarm.robot.kinematics import tcp_frame
+
+from ..cli_run import run_cli
 
 pytestmark = pytest.mark.filterwarnings("ignore:.*placeholder stiffness")
 
@@ -95,11 +94,7 @@ def ur5_urdf() -> str:
     return f'<?xml version="1.0"?>\n<robot name="ur5">{"".join(links + joints)}</robot>\n'
 
 
-def _run(args):
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(args)
-    return code, out.getvalue(), err.getvalue()
+_run = run_cli
 
 
 @pytest.fixture(scope="module")
