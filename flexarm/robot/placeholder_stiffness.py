@@ -71,7 +71,7 @@ from .kinematics import Chain, link_frames
 
 __all__ = ["G", "TWIST", "SHARES", "F_ANCHOR", "R_ANCHOR", "BAND_FACTOR",
            "LIGHTWEIGHT_KG_PER_M", "RobotSize", "PlaceholderStiffness", "reach",
-           "mid_workspace_pose", "placeholder_stiffness"]
+           "mid_workspace_pose", "placeholder_stiffness", "example_chain"]
 
 #: Standard gravity [m/s^2].
 G = 9.80665
@@ -157,16 +157,22 @@ def _geometry(chain: Chain, lower: ArrayLike, upper: ArrayLike):
     return Q, r, (w - o2) @ axis, (F[..., 3, :3, 3] - o2) @ axis
 
 
+
+def example_chain() -> Chain:
+    """A 6R arm for the examples: joint 1 about z 0.5 m above the base, a 0.2 m offset,
+    a 0.8 m upper arm, a 0.3 + 0.4 m forearm to the wrist centre, a 0.1 m flange."""
+    return Chain(origins=[[0, 0, 0.5], [0.2, 0, 0], [0, 0, 0.8], [0.3, 0, 0],
+                          [0.4, 0, 0], [0.1, 0, 0]],
+                 axes=[[0, 0, 1], [0, 1, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0]],
+                 parents=[0, 1, 2, 3, 4, 5])
+
 def reach(chain: Chain, lower: ArrayLike, upper: ArrayLike) -> float:
     """The largest horizontal distance [m] of the wrist centre (origin of joint 5) from
     the joint-1 axis over joints 2 and 3 within their limits (the datasheet reach).
 
     Examples
     --------
-    >>> ch = Chain(origins=[[0, 0, 0.5], [0.2, 0, 0], [0, 0, 0.8], [0.3, 0, 0],
-    ...                     [0.4, 0, 0], [0.1, 0, 0]],
-    ...            axes=[[0, 0, 1], [0, 1, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0]],
-    ...            parents=[0, 1, 2, 3, 4, 5])
+    >>> ch = example_chain()  # a 6R arm: shoulder 0.5 m up, arms 0.8 and 0.7 m
     >>> round(reach(ch, [-3, -2, -3, -3, -2, -3], [3, 2, 3, 3, 2, 3]), 3)  # 0.2+0.8+0.3+0.4
     1.7
     """
@@ -181,10 +187,7 @@ def mid_workspace_pose(chain: Chain, lower: ArrayLike, upper: ArrayLike) -> Floa
 
     Examples
     --------
-    >>> ch = Chain(origins=[[0, 0, 0.5], [0.2, 0, 0], [0, 0, 0.8], [0.3, 0, 0],
-    ...                     [0.4, 0, 0], [0.1, 0, 0]],
-    ...            axes=[[0, 0, 1], [0, 1, 0], [0, 1, 0], [1, 0, 0], [0, 1, 0], [1, 0, 0]],
-    ...            parents=[0, 1, 2, 3, 4, 5])
+    >>> ch = example_chain()  # a 6R arm: shoulder 0.5 m up, arms 0.8 and 0.7 m
     >>> q = mid_workspace_pose(ch, [-3, -2, -3, -3, -2, -3], [3, 2, 3, 3, 2, 3])
     >>> w = link_frames(ch, q)[5, :3, 3]
     >>> bool(abs(w[0] - 0.6 * 1.7) < 0.06 and abs(w[2] - 0.5) < 0.06)
