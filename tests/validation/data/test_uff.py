@@ -143,6 +143,7 @@ def test_our_output_read_by_pyuff_is_identical(tmp_path):
         assert [int(d["type"]) for d in sets] == [151, 164, 15, 55, 55, 58, 58, 58, 58]
         d58 = [d for d in sets if d["type"] == 58]
         for k, d in enumerate(d58):
+            assert d["abscissa_spacing"] == 1  # even lines: first line and increment only
             assert np.array_equal(d["x"], frf.freq_hz)
             tol = 0 if binary else 5e-12
             assert np.max(np.abs(d["data"] - frf.H[k]) / np.abs(frf.H[k])) <= tol

@@ -44,6 +44,10 @@ def _shape_sets(pyuff, shapes: ShapeData) -> list[dict]:
 
 
 def _frf_sets(pyuff, frf: UffFrf, binary: bool) -> list[dict]:
+    f = np.asarray(frf.freq_hz, float)
+    # evenly spaced lines, as analyzers write them: first line and increment, no abscissae
+    step = np.diff(f)
+    even = int(f.size > 1 and np.allclose(step, step[0], rtol=1e-9, atol=0))
     out = []
     for k in range(len(frf.H)):
         d = pyuff.prepare_58(
@@ -51,7 +55,7 @@ def _frf_sets(pyuff, frf: UffFrf, binary: bool) -> list[dict]:
             func_type=4, rsp_node=int(frf.out_nodes[k]),
             rsp_dir=DIRECTIONS.index(str(frf.out_dirs[k])) + 1, ref_node=int(frf.in_nodes[k]),
             ref_dir=DIRECTIONS.index(str(frf.in_dirs[k])) + 1, data=np.asarray(frf.H[k]),
-            x=np.asarray(frf.freq_hz), abscissa_spec_data_type=18, ordinate_spec_data_type=8,
+            x=f, abscissa_spacing=even, abscissa_spec_data_type=18, ordinate_spec_data_type=8,
             orddenom_spec_data_type=13, ordinate_axis_units_lab="m/N",
             abscissa_axis_units_lab="Hz")
         out.append(d)
