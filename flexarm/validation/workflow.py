@@ -118,12 +118,15 @@ class DiagnosisRun:
         history picture.
     damping : DampingDiagnosis or None
         Joints missing damping, judged by the modal data's damping ratios (when given).
+    what : str
+        The robot, model and measured poses, for the history picture's title.
     """
 
     diagnosis: Diagnosis
     models: ValidationModels
     sigma: float | None = None
     damping: DampingDiagnosis | None = None
+    what: str = ""
 
     def text(self) -> str:
         """The diagnosis as ``diagnose`` prints it (then the damping check, if any)."""
@@ -139,7 +142,7 @@ class DiagnosisRun:
     def write_history(self, folder: PathType) -> list[Path]:
         """``history.csv``, ``history.json`` and ``history.png`` of the model versions
         (:func:`~.history.write_history`)."""
-        return write_history(folder, self.diagnosis, sigma=self.sigma)
+        return write_history(folder, self.diagnosis, sigma=self.sigma, what=self.what)
 
     def write_robot(self, path: PathType, force: bool = False) -> Path:
         """:meth:`updated_robot` as a robot file (``.toml``), atomically.
@@ -212,8 +215,13 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
                   modal=modal, flexible=models.flexible, freq_noise=freq_noise_pct / 100,
                   **shapes)
     sigma = data.sigma if getattr(data, "sigma", None) is not None else None
+    poses = ", ".join(sorted({str(s).split("_")[0] for s in data.series}))
+    label = {"emodel": "E-model", "guyan": "Guyan arm", "cb": "CB arm"}.get(options.model,
+                                                                         options.model)
+    extra = "" if modal is None else f" (+ {len(modal.freq_hz)} measured modes)"
+    what = f"{robot.name} {label} at {poses}{extra}"
     return DiagnosisRun(dg, models, noise_um * 1e-6 if sigma is None else float(np.mean(sigma)),
-                        damping)
+                        damping, what)
 
 
 def _damping_check(modal, robot: Robot, options: ValidationOptions, noise_pct: float):

@@ -109,7 +109,7 @@ def _frequency_panel(ax, rows: list[dict]) -> None:
     ax.set_xticks(x, [f"v{r['version']}" for r in rows])
     ax.set_xlabel("model version")
     ax.set_ylabel("frequency RMS error [%]")
-    ax.set_title("measured modes (paired)", fontsize=8)
+    ax.set_title("error of the paired measured frequencies per model version", fontsize=8)
 
 
 def torque_joints(tau: FloatArray) -> np.ndarray:
