@@ -81,7 +81,9 @@ def _index_lines(before: Comparison, dg: Diagnosis, after: Comparison) -> list[s
         "",
         f"- Nominal model: χ²_red {before.chi2_red:.2f}, RMS {before.rms * 1e6:.1f} µm "
         "([errors and plots](measurements_v0/))",
-        *[f"- **Accepted**: {st.explanation}" for st in dg.steps if st.accepted],
+        *[line for st in dg.steps for line in
+          [f"- **Dropped**: {why}" for _, why in st.dropped]
+          + ([f"- **Accepted**: {st.explanation}"] if st.accepted else [])],
         f"- Updated robot file [robot_v1.toml](robot_v1.toml): χ²_red {after.chi2_red:.3f} "
         f"(band {lo:.3f}–{hi:.3f}), RMS {after.rms * 1e6:.1f} µm "
         "([errors and plots](measurements_v1/))",

@@ -87,8 +87,8 @@ def run_one(arm, hidden: str, seed: int, modal: bool = True) -> Outcome:
         if modal else None
     t = time.perf_counter()
     dg = diagnose(arm, data, SIGMA, modal=m, freq_noise=FREQ_NOISE, heldout=False)
-    names = tuple(s.winner.name for s in dg.steps if s.accepted)
-    first = next((s.winner for s in dg.steps if s.accepted), None)
+    names = dg.named
+    first = next((s.winner for s in dg.steps if s.accepted and s.winner.name in names), None)
     rel = float("nan")
     if first is not None and first.params:
         value, sd = next(iter(first.params.values()))

@@ -160,6 +160,8 @@ class Step:
         RMS relative error [-] of the paired measured frequencies (NaN: no modal data).
     n_unpaired : int
         Measured modes without a partner in this version.
+    dropped : tuple of (str, str)
+        Effects accepted earlier that this version left out again: (candidate name, why).
     """
 
     label: str
@@ -175,6 +177,7 @@ class Step:
     explanation: str = ""
     freq_rms: float = float("nan")
     n_unpaired: int = 0
+    dropped: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -247,6 +250,14 @@ class Diagnosis:
     @property
     def final(self) -> Step:
         return self.steps[-1]
+
+    @property
+    def named(self) -> tuple[str, ...]:
+        """Candidate names of the effects in the final model, in the order accepted
+        (those a later version dropped again left out)."""
+        gone = {name for s in self.steps for name, _ in s.dropped}
+        return tuple(s.winner.name for s in self.steps
+                     if s.accepted and s.winner.name not in gone)
 
     def text(self) -> str:
         """The diagnosis as ``diagnose`` prints it (:func:`diagnosis_text`)."""
@@ -351,6 +362,7 @@ def step_lines(i: int, step: Step) -> list[str]:
     lines = [f"\nv{i} {step.label}: chi2_red {step.chi2_red:.3f} (band {step.band[0]:.3f}-"
              f"{step.band[1]:.3f}), RMS fitted {step.rms_fit * 1e6:.1f} µm, held-out "
              f"{step.rms_heldout * 1e6:.1f} µm"]
+    lines += [_wrap("DROPPED: " + why, "", "  ") for _, why in step.dropped]
     if step.candidates:
         details = list(dict.fromkeys(c.detail for c in step.candidates if c.detail))
         lines.append(text_table(

@@ -47,6 +47,7 @@ from ..static.residual_structure import residual_structure
 from ..static.shape_search import research_shapes, shaped
 from ..tolerances import tol
 from .explain import base_note, explain, links_note, mimic, signature_corr, span_corr, static_notes
+from .backward import backward_step
 from .identifiability import identifiability, leave_one_pose_out
 from .plausibility import plausible
 from .results import (
@@ -99,6 +100,11 @@ def _reason(exc: BaseException) -> str:
     """One line of what went wrong in a candidate's fit."""
     text = str(exc).strip().splitlines()
     return text[0] if text else type(exc).__name__
+
+
+def _name(effect) -> str:
+    """The candidate name of an accepted effect (``"tilt_j1"``, ``"base"``)."""
+    return effect.kind + (f"_j{effect.joint + 1}" if effect.joint is not None else "")
 
 
 def arm_joints(problem: Problem) -> int:
@@ -184,16 +190,17 @@ def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()
         # the measurement candidates read patterns only the GLS metric makes meaningful
         exclude = tuple(exclude) + ("tool", "frame", "balancer", "reflector", "loadcell")
     cands = [c for c in library(problem) if c.name not in exclude and c.kind not in exclude]
-    steps, accepted, ident = [], [], None
-    label = "baseline"
+    steps, accepted, labels, ident = [], [], [], None
     n_shape = 0  # shape parameters (thresholds, radii) of the accepted effects: fixed, counted
+    dropped = ()
     for it in range(max_effects + 1):
+        label = " + ".join(["baseline", *labels])
         fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
         cur_ho = heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan
         if it == 0:
             ident = replace(identifiability(problem, fr), leave_one_pose_out=leave_one_pose_out(
                 problem, effects, free, scales, prior))
-        version = model_version(problem, label, fr, cur_ho)
+        version = replace(model_version(problem, label, fr, cur_ho), dropped=dropped)
         step, refit = _round(problem, fr, version, cands, accepted, free, scales, prior, n_shape,
                              heldout, poses)
         steps.append(step)
@@ -202,17 +209,35 @@ def _search(problem: Problem, max_effects: int, heldout: bool, poses, exclude=()
         effects, free, scales = list(refit.fit.effects), refit.free, refit.scales
         n_shape = refit.fit.n_shape
         accepted.append(refit.fit.effects[-1])
-        label = label + " + " + refit.winner.label
+        labels.append(refit.winner.label)
+        dropped = ()
         if len(accepted) > 1:  # every shape again, with all accepted effects free
+            full = refit.fit
             try:
-                effects = list(research_shapes(problem, effects, free, scales, prior, n_shape,
-                                               shaped(effects, n_base)).effects)
+                full = research_shapes(problem, effects, free, scales, prior, n_shape,
+                                       shaped(effects, n_base))
+                effects = list(full.effects)
             except MODEL_ERRORS as exc:  # keep the shapes found one at a time
                 log.info("shape search again failed: %s", _reason(exc))
+            # an effect accepted earlier may have stood in for the one just found
+            while len(accepted) > 1:
+                first = len(effects) - len(accepted)
+                gone = backward_step(problem, full, free, scales, prior, n_shape,
+                                     range(first, len(effects) - 1))
+                if gone is None:
+                    break
+                k = gone.index - first
+                e = accepted.pop(k)
+                cands = [c for c in cands if c.name != _name(e)]
+                dropped += ((_name(e), replace(gone, label=labels.pop(k)).text(labels[-1])),)
+                full, free, scales, n_shape = gone.fit, gone.free, gone.scales, gone.n_shape
+                effects = list(full.effects)
     if steps[-1].accepted:  # the loop ran out of iterations after an acceptance
         fr = fit_model(problem, effects, free, scales, prior, n_shape=n_shape)
-        steps.append(model_version(problem, label, fr, heldout_rms(
-            problem, effects, free, scales, prior) if heldout else np.nan))
+        steps.append(replace(model_version(
+            problem, " + ".join(["baseline", *labels]), fr,
+            heldout_rms(problem, effects, free, scales, prior) if heldout else np.nan),
+            dropped=dropped))
     final = tuple(steps[-1].effects)
     return Diagnosis(tuple(steps), ident, final[n_base:], final,
                      static_notes(arm, problem.flexible is not None, problem, None)), fr
@@ -225,7 +250,7 @@ def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, p
 
     Returns ``version`` with the ranking and the winner, and the refit (None if no
     candidate was testable)."""
-    done = {e.kind + (f"_j{e.joint + 1}" if e.joint is not None else "") for e in accepted}
+    done = {_name(e) for e in accepted}
     screens, fit_failed = [], {}
     for c in cands:
         if c.name in done:
