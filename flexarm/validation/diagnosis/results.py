@@ -1,18 +1,13 @@
-"""The results of a diagnosis (:func:`~flexarm.validation.diagnosis.search.diagnose`) and their
-text: identifiability, one block per model version (its fit, the candidate ranking, the
-accepted or best refitted candidate) and the notes on what the data cannot test."""
+"""The results of a diagnosis (:func:`~flexarm.validation.diagnosis.search.diagnose`):
+identifiability, one record per model version (its fit, the candidate ranking, the
+accepted or best refitted candidate) and the notes on what the data cannot test.  Their
+text is :mod:`.text`."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
 
-import numpy as np
-
-from ...fe.text import text_table
-
-__all__ = ["CandidateReport", "Checks", "Winner", "Step", "Identifiability", "Diagnosis",
-           "diagnosis_text", "identifiability_lines", "step_lines", "weak_directions",
-           "WIDTH", "COLUMNS"]
+__all__ = ["CandidateReport", "Checks", "Winner", "Step", "Identifiability", "Diagnosis"]
 
 
 @dataclass(frozen=True)
@@ -202,7 +197,7 @@ class Identifiability:
         (empty with fewer than three poses).
     weak : tuple of str
         The parameter combinations the data cannot tell apart, in words
-        (:func:`weak_directions`).
+        (:func:`.identifiability.weak_directions`).
     """
 
     singular_values: tuple[float, ...]
@@ -260,7 +255,9 @@ class Diagnosis:
                      if s.accepted and s.winner.name not in gone)
 
     def text(self) -> str:
-        """The diagnosis as ``diagnose`` prints it (:func:`diagnosis_text`)."""
+        """The diagnosis as ``diagnose`` prints it (:func:`.text.diagnosis_text`)."""
+        from .text import diagnosis_text
+
         return diagnosis_text(self)
 
     def __repr__(self) -> str:
@@ -285,130 +282,3 @@ class Diagnosis:
                            "unique": [c.unique for *_, c in rows],
                            "norm": [c.norm for *_, c in rows],
                            "detail": [c.detail for *_, c in rows]})
-
-
-
-#: Width of the diagnosis text [characters].
-WIDTH = 120
-
-#: What the candidate table's columns mean (printed under the first table).
-COLUMNS = ("dBIC: Delta-BIC of adding the candidate (> 0 favours it); unique: share of its "
-           "signature the current model cannot mimic (0-1, below 0.05 it is aliased); norm: "
-           "size of its signature at a typical amplitude [noise sigma]; [n]: detail below")
-
-
-def weak_directions(X: np.ndarray, names, rel: float = 1e-8, corr: float = 0.95) -> tuple:
-    """The parameter combinations the whitened sensitivities ``X`` (n_obs, n) cannot
-    determine, in words: each right singular vector with a singular value below ``rel``
-    times the largest names the parameters it involves (``names``), and each pair whose
-    sensitivity columns are more than ``corr`` alike (cosine) is named as moving the
-    TCP alike.
-
-    Examples
-    --------
-    >>> X = np.array([[1.0, 2.0, 0.0], [0.0, 0.0, 0.0], [3.0, 6.0, 1.0]])
-    >>> weak_directions(X, ["joint 1 torsion", "joint 2 torsion", "joint 3 torsion"])
-    ('joint 1 torsion and joint 2 torsion move the TCP alike: only their combination is \
-identifiable',)
-    >>> weak_directions(np.array([[1.0, 0.0], [2.0, 0.0]]), ["joint 1 torsion",
-    ...                 "joint 6 torsion"])
-    ('joint 6 torsion moves the TCP in no measured direction: unidentifiable',)
-    """
-    X = np.asarray(X, dtype=float)
-    if X.size == 0:
-        return ()
-    norms = np.linalg.norm(X, axis=0)
-    ok = norms > rel * norms.max()
-    # a parameter that moves nothing first: inside the SVD its null vector could mix
-    # with another null direction
-    out = [f"{names[i]} moves the TCP in no measured direction: unidentifiable"
-           for i in np.flatnonzero(~ok)]
-    idx = np.flatnonzero(ok)
-    _, s, vt = np.linalg.svd(X[:, ok] / norms[ok], full_matrices=False)
-    for sv, v in zip(s, vt, strict=True):
-        if sv > rel * s[0]:
-            continue
-        w = np.abs(v) / np.abs(v).max()
-        who = [names[idx[i]] for i in range(len(w)) if w[i] > 0.2]
-        out.append(f"{' and '.join(who)} move the TCP alike: only their combination is "
-                   "identifiable")
-    cos = (X[:, ok] / norms[ok]).T @ (X[:, ok] / norms[ok])
-    said = " ".join(out)
-    for a, b in zip(*np.triu_indices(len(idx), 1), strict=True):
-        if abs(cos[a, b]) > corr and not (names[idx[a]] in said and names[idx[b]] in said):
-            out.append(f"{names[idx[a]]} and {names[idx[b]]} move the TCP alike "
-                       f"(correlation {abs(cos[a, b]):.2f})")
-    return tuple(out)
-
-
-def identifiability_lines(ident: Identifiability) -> list[str]:
-    """Condition and singular values of the baseline fit with the unidentifiable
-    directions named, the series in which each joint's torque changes sign, and the
-    leave-one-pose-out chi2_red."""
-    lines = [f"identifiability: condition {ident.condition:.3g}, singular "
-             f"values {', '.join(f'{v:.3g}' for v in ident.singular_values)}"]
-    lines += [_wrap(w, "  ") for w in ident.weak]
-    lines += [_wrap(f"{j.replace('_', ' ')} torque changes sign in: "
-                    f"{', '.join(s) if s else 'no series'}", "  ", "    ")
-              for j, s in ident.sign_changes.items()]
-    lines += [f"  leave-one-pose-out chi2_red on {k}: {v:.3f}"
-              for k, v in ident.leave_one_pose_out.items()]
-    return lines
-
-
-def step_lines(i: int, step: Step) -> list[str]:
-    """Model version ``i``: its fit (chi2_red, band, RMS [µm]), a blank line before it,
-    the candidate table and the verdict on the refitted best candidate."""
-    lines = [f"\nv{i} {step.label}: chi2_red {step.chi2_red:.3f} (band {step.band[0]:.3f}-"
-             f"{step.band[1]:.3f}), RMS fitted {step.rms_fit * 1e6:.1f} µm, held-out "
-             f"{step.rms_heldout * 1e6:.1f} µm"]
-    lines += [_wrap("DROPPED: " + why, "", "  ") for _, why in step.dropped]
-    if step.candidates:
-        details = list(dict.fromkeys(c.detail for c in step.candidates if c.detail))
-        lines.append(text_table(
-            ["candidate", "status", "dBIC", "unique", "norm", "see"],
-            [[c.label, c.status, f"{c.dbic:.1f}", f"{c.unique:.2f}", f"{c.norm:.1f}",
-              f"[{details.index(c.detail) + 1}]" if c.detail else ""]
-             for c in step.candidates]))
-        lines += [_wrap(f"[{k}] {d}", "  ", "      ") for k, d in enumerate(details, start=1)]
-    if step.winner is not None:
-        lines.append(_wrap(("ACCEPTED: " if step.accepted else "best, not accepted: ")
-                           + step.explanation, "", "  "))
-    return lines
-
-
-def _wrap(text: str, first: str = "", rest: str | None = None) -> str:
-    """``text`` wrapped to :data:`WIDTH` columns, indented by ``first`` then ``rest``."""
-    import textwrap
-
-    return textwrap.fill(text, WIDTH, initial_indent=first,
-                         subsequent_indent=first if rest is None else rest,
-                         break_on_hyphens=False)
-
-
-def diagnosis_text(dg: Diagnosis) -> str:
-    """The whole diagnosis as the ``diagnose`` command prints it.
-
-    Examples
-    --------
-    >>> from flexarm.validation.diagnosis.results import Diagnosis, Identifiability, Step
-    >>> ident = Identifiability((2.0, 1.0), 2.0, ((1.0, 0.0), (0.0, 1.0)), (0.1, 0.1),
-    ...                         {"joint_1": ("P1_+x",), "joint_2": ()})
-    >>> step = Step("baseline", (), 1.02, (0.8, 1.2), 100.0, 15e-6, 16e-6)
-    >>> print(diagnosis_text(Diagnosis((step,), ident, (), (), ("payload: untestable",))))
-    identifiability: condition 2, singular values 2, 1
-      joint 1 torque changes sign in: P1_+x
-      joint 2 torque changes sign in: no series
-    <BLANKLINE>
-    v0 baseline: chi2_red 1.020 (band 0.800-1.200), RMS fitted 15.0 µm, held-out 16.0 µm
-    note: payload: untestable
-    """
-    lines = [dg.misfit.headline()] if dg.unexplained else []
-    lines += identifiability_lines(dg.identifiability)
-    for i, step in enumerate(dg.steps):
-        lines += step_lines(i, step)
-        if i == 0 and step.candidates:
-            lines.append(_wrap("columns: " + COLUMNS))
-    lines += [] if dg.misfit is None else dg.misfit.lines()
-    lines += [_wrap(f"note: {n}", "", "  ") for n in dg.notes]
-    return "\n".join(lines)

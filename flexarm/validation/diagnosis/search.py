@@ -46,8 +46,8 @@ from ..static.refit import shape_marginal as _shape_marginal
 from ..static.residual_structure import residual_structure
 from ..static.shape_search import research_shapes, shaped
 from ..tolerances import tol
-from .explain import base_note, explain, links_note, mimic, signature_corr, span_corr, static_notes
 from .backward import backward_step
+from .explain import explain, signature_corr, span_corr, static_notes
 from .identifiability import identifiability, leave_one_pose_out
 from .plausibility import plausible
 from .results import (
@@ -58,7 +58,8 @@ from .results import (
     Step,
     Winner,
 )
-from .versions import static_rms, untestable_detail
+from .status import candidate_report
+from .versions import static_rms
 from .versions import version as model_version
 
 __all__ = ["CandidateReport", "Checks", "Winner", "Step", "Identifiability", "Diagnosis",
@@ -307,7 +308,7 @@ def _round(problem: Problem, fr, version: Step, cands, accepted, free, scales, p
             best, refit = s, r
         if not modal:
             break
-    reports = [_report(problem, fr, s, screens, best, refit, poses) for s in screens
+    reports = [candidate_report(problem, fr, s, screens, best, refit, poses) for s in screens
                if s.candidate.name not in fit_failed]
     reports += [CandidateReport(c.name, c.label, "rejected", np.nan, np.nan, np.nan,
                                 f"fit failed ({why})") for c, why in fit_failed.values()]
@@ -382,41 +383,3 @@ def _refit_best(problem: Problem, fr, best: Screen, screens, free, scales, prior
         rms_heldout_after=new_ho, rms_fit_after=static_rms(problem, fr2.effects))
     return _Refit(winner, fr2, free2, scales2, tuple(proxies),
                   explain(problem, c, fr2.effects[-1], theta, se))
-
-
-def _report(problem: Problem, fr, s: Screen, screens, best: Screen | None,
-            refit: _Refit | None, poses) -> CandidateReport:
-    """The status of the screened candidate ``s`` in this round and why."""
-    c = s.candidate
-    st, detail = _status(problem, fr, s, best, refit, poses)
-    if c.kind == "base":
-        detail = (detail + "; " if detail else "") + base_note(screens)
-    if c.kind == "links" and st in ("rejected", "untestable"):
-        detail = (detail + "; " if detail else "") + links_note(problem, fr, s, st)
-    return CandidateReport(c.name, c.label, st, s.dbic, s.unique, s.norm, detail)
-
-
-def _status(problem: Problem, fr, s: Screen, best: Screen | None, refit: _Refit | None,
-            poses) -> tuple[str, str]:
-    """Status and detail of ``s`` before the notes on the base and link candidates."""
-    st = status_of(s)
-    c = s.candidate
-    winner = None if refit is None else refit.winner
-    if st == "untestable":
-        return st, untestable_detail(problem, c, poses)
-    if st == "aliased":
-        return st, (links_note(problem, fr, s, "aliased") if c.kind == "links"
-                    else mimic(problem, fr, s))
-    if winner is not None and c.name == winner.name and refit.proxies:
-        p = max(refit.proxies, key=lambda x: x.dchi2)
-        return "aliased", (f"with {p.candidate.label} (a proxy: their unique signatures "
-                           f"correlate {signature_corr(p.columns, s.columns):.2f} and "
-                           f"{p.candidate.label} explains more, dchi2 {p.dchi2:.0f} vs "
-                           f"{s.dchi2:.0f})")
-    if winner is not None and c.name == winner.name:
-        ok = winner.checks.passed
-        return ("accepted" if ok else "rejected",
-                "" if ok else "failed: " + ", ".join(winner.checks.failed))
-    if winner is not None and signature_corr(s.columns, best.columns) > tol.alias_correlation:
-        return "aliased", f"with {winner.label} (same pattern on this data)"
-    return "rejected", ""

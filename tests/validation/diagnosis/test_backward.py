@@ -52,7 +52,7 @@ def test_a_stand_in_is_dropped_whichever_came_first(demo, lab, order):
 
 
 def test_a_real_second_effect_is_kept(demo, lab):
-    data = lab(["backlash:j2=0.1mrad", "tilt:j1=2e6Nm"])
+    data = lab(["backlash:j2=0.1mrad", "tilt:j1=2e6Nm/rad"])
     problem, fr, free, scales, prior, n = _fitted(demo[1], data, [TILT, BACKLASH])
     assert backward_step(problem, fr, free, scales, prior, 0, range(n, n + 2)) is None
 

@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from flexarm.validation.diagnosis.results import COLUMNS, WIDTH, weak_directions
+from flexarm.validation.diagnosis.identifiability import weak_directions
+from flexarm.validation.diagnosis.text import COLUMNS, WIDTH
 
 NAMES = [f"joint {j} torsion" for j in range(1, 5)]
 
