@@ -35,8 +35,8 @@ from typing import Any
 
 from .files import atomic_path, digest, file_digest
 
-__all__ = ["LAYOUT_VERSION", "Codec", "JSON", "BYTES", "Cached", "cache_root", "cache_key",
-           "cached", "lookup", "library_versions"]
+__all__ = ["LAYOUT_VERSION", "Codec", "JSON", "BYTES", "PICKLE", "Cached", "cache_root",
+           "cache_key", "cached", "lookup", "library_versions", "package_digest"]
 
 log = logging.getLogger(__name__)
 
@@ -82,6 +82,24 @@ def _load_bytes(path: Path) -> bytes:
 BYTES = Codec(".bin", _save_bytes, _load_bytes)
 
 
+def _save_pickle(path: Path, value) -> None:
+    import pickle
+
+    path.write_bytes(pickle.dumps(value, protocol=pickle.HIGHEST_PROTOCOL))
+
+
+def _load_pickle(path: Path):
+    import pickle
+
+    return pickle.loads(path.read_bytes())  # noqa: S301 - our own checksummed entry
+
+
+#: A result object of the package (a frozen dataclass of arrays and numbers), pickled.
+#: Only for keys that include :func:`package_digest`: a pickle is read back by the
+#: code that wrote it.
+PICKLE = Codec(".pkl", _save_pickle, _load_pickle)
+
+
 @dataclass(frozen=True, eq=False)
 class Cached:
     """A cached value, the entry's file (None when caching was off) and whether it was
@@ -116,6 +134,27 @@ def library_versions(libraries: tuple[str, ...] = ()) -> tuple[tuple[str, str], 
         except metadata.PackageNotFoundError:
             out.append((name, "absent"))
     return tuple(out)
+
+
+@cache
+def package_digest() -> str:
+    """SHA-256 hex digest of every file of the installed flexarm package (its code and
+    shipped data): the key part of a result that any change of the code may change.
+
+    Examples
+    --------
+    >>> package_digest() == package_digest() and len(package_digest())
+    64
+    """
+    import hashlib
+
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*")):
+        if path.is_file() and "__pycache__" not in path.parts and path.suffix != ".pyc":
+            h.update(path.relative_to(root).as_posix().encode() + b"\x00")
+            h.update(path.read_bytes())
+    return h.hexdigest()
 
 
 def cache_key(kind: str, *parts, libraries: tuple[str, ...] = ()) -> str:

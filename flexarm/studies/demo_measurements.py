@@ -15,6 +15,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..assembly.arm import ArmSpec, build_arm
+from ..fe.cache import PICKLE, cache_key, cached, package_digest
+from ..fe.files import file_digest
 from ..robot import load_robot
 from .demo_results import Progress, StepResult
 
@@ -49,7 +51,11 @@ def measurement_step(out: Path, progress: Progress) -> StepResult:
     progress("measurements: nominal model vs lab data, then diagnosis")
     before = compare_static(arm, data)
     write_report(out / "measurements_v0", before)
-    dg = diagnose(arm, data, poses=robot.poses)
+    # the diagnosis is the costly part of a warm demo: its result is kept, keyed by the
+    # data and by the package (code and shipped robot), so any change recomputes it
+    dg = cached("diagnosis", cache_key("demo-diagnosis", file_digest(data_path),
+                                       package_digest()),
+                lambda: diagnose(arm, data, poses=robot.poses), PICKLE).value
     write_history(out / "diagnosis", dg, before.rms, float(before.problem.sigma.mean()),
                   f"{before.model} at {before.poses}")
     write(out / "robot_v1.toml", robot_with_effects(robot, arm, dg.final_effects))

@@ -212,3 +212,16 @@ def test_damaged_matrix_heals_to_exactly_a_clean_build(root, kind, damage):
     assert not healed.is_hit and len(calls) == 2
     assert healed.value.tobytes() == K.tobytes()
     assert cached("superelements", "k", build, codec).is_hit
+
+
+def test_a_result_object_round_trips_through_the_pickle_codec(root):
+    """A frozen result (here a diagnosis step record) read back equals the one stored,
+    arrays and all; the second call reads it."""
+    from flexarm.validation.diagnosis.results import Step
+
+    step = Step("baseline", (), 1.02, (0.8, 1.2), 100.0, 15e-6, 16e-6, freq_rms=0.01,
+                dropped=(("tilt_j1", "joint 1 tilt dropped"),))
+    first = cached("result", cache_key("result", 1), lambda: step, cache.PICKLE)
+    again = cached("result", cache_key("result", 1), lambda: None, cache.PICKLE)
+    assert not first.is_hit and again.is_hit and again.value == step
+
