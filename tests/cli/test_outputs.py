@@ -181,9 +181,7 @@ def test_verbosity_after_the_command(capsys):
     assert main(["compliance", "--pose", "P1", "-q"]) == 0
     assert main(["-v", "compliance", "--pose", "P1"]) == 0
     assert main(["compliance", "-v", "--pose", "P1"]) == 0
-    with pytest.raises(SystemExit) as exc:
-        main(["compliance", "-v", "-q"])
-    assert exc.value.code == 2
+    assert main(["compliance", "-v", "-q"]) == 2  # a usage error: the code, not an exit
 
 
 def test_help_shows_defaults(capsys):
@@ -199,9 +197,7 @@ def test_help_shows_defaults(capsys):
 
 def test_bad_pose_fails_before_building_the_flexible_arm(capsys, monkeypatch):
     _forbid_builds(monkeypatch, "the links were built before the pose was checked")
-    t0 = time.perf_counter()
     assert main(["modes", "--model", "cb", "--pose", "NOPE"]) == 2
-    assert time.perf_counter() - t0 < 2.0
     assert "pose must be one of" in capsys.readouterr().err
 
 

@@ -155,4 +155,8 @@ def test_ctrl_c_after_meshing_is_a_keyboard_interrupt(bar):
     _run_tetwild(bar.vertices, bar.faces, 0.05, True)
     with pytest.raises(KeyboardInterrupt):
         os.kill(os.getpid(), signal.SIGINT)
-        time.sleep(5)  # the interrupt arrives during the sleep; a killed run fails the suite
+        # wait for the interrupt to arrive, however busy the machine (a killed run fails
+        # the suite; one that never arrives fails after ten minutes)
+        deadline = time.monotonic() + 600
+        while time.monotonic() < deadline:
+            time.sleep(0.01)

@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
 import warnings
 from pathlib import Path
 
@@ -160,13 +159,18 @@ def test_parts_and_tolerances_are_importable_from_seats():
 
 
 # ------------------------------------------------------------------------------ demo arm
-def test_demo_detected_seats_match_the_hand_made_ones(demo_robot):
+def test_demo_detected_seats_match_the_hand_made_ones(demo_robot, monkeypatch):
     """Same axis; centres within 5 cm; the detected bore radius inside the hand-made
     ring.  The tube shaft's fork is the exception by design: the hand-made seat is one
-    cheek, the detected one holds both (and so the hand-made centre)."""
-    t0 = time.perf_counter()
+    cheek, the detected one holds both (and so the hand-made centre).  Found from the CAD
+    samples: no link is meshed on the way."""
+    from flexarm.meshes import pipeline
+
+    def no_mesher(*args, **kwargs):
+        raise AssertionError("seat detection meshed a link")
+
+    monkeypatch.setattr(pipeline, "tetrahedralizer", no_mesher)
     found = _link_regions(detect_regions(demo_robot, overwrite=True))
-    assert time.perf_counter() - t0 < 5.0  # from the CAD samples, no meshing
     given = _link_regions(demo_robot)
     assert set(found) == set(given)
     for key, hand in given.items():
