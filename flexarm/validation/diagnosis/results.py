@@ -1,7 +1,7 @@
 """The results of a diagnosis (:func:`~flexarm.validation.diagnosis.search.diagnose`):
 identifiability, one record per model version (its fit, the candidate ranking, the
 accepted or best refitted candidate) and the notes on what the data cannot test.  Their
-text is :mod:`.text`."""
+text is :mod:`flexarm.validation.diagnosis.text`."""
 
 from __future__ import annotations
 
@@ -255,7 +255,8 @@ class Diagnosis:
                      if s.accepted and s.winner.name not in gone)
 
     def text(self) -> str:
-        """The diagnosis as ``diagnose`` prints it (:func:`.text.diagnosis_text`)."""
+        """The diagnosis as ``diagnose`` prints it
+        (:func:`~flexarm.validation.diagnosis.text.diagnosis_text`)."""
         from .text import diagnosis_text
 
         return diagnosis_text(self)
