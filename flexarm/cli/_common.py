@@ -17,10 +17,17 @@ import time
 import warnings
 from collections.abc import Callable, Iterable
 
+from ._numbers import count, number
+
 __all__ = ["COMMANDS", "command", "out", "say", "set_quiet", "wrote", "Progress",
            "add_robot_args",
            "add_flexible_args",
            "robot_from", "arm_spec_from", "arm_from", "pose_from", "floats", "ints", "names"]
+
+#: ``--mesh-size`` and the like: a tet edge [m] (a bare number is metres).
+MESH_SIZE = number("length", "m", 0, 2, open_low=True)
+#: ``--max-displacement``: the largest displacement a drawn mode shape is scaled to [m].
+DISPLACEMENT = number("length", "m", 0, 100, open_low=True)
 
 #: name -> (help, add_args, run), in registration order
 COMMANDS: dict[str, tuple[str, Callable, Callable]] = {}
@@ -146,16 +153,17 @@ def add_measured_pose_args(p: argparse.ArgumentParser, tcp_node: bool = False) -
                    help="what the FRFs' ordinate is when the file says 'general' or "
                         "'unknown' and its unit label does not tell")
     if tcp_node:
-        p.add_argument("--tcp-node", type=int, default=None,
+        p.add_argument("--tcp-node", type=count(1), default=None,
                        help="node whose driving-point FRFs are the TCP's (FRF files with "
                             "several nodes)")
 
 
 def add_flexible_args(p: argparse.ArgumentParser) -> None:
     """``--mesh-size``, ``--modes``, ``--coupling`` of flexible links."""
-    p.add_argument("--mesh-size", type=float, default=None,
-                   help="tet edge of flexible links [m] (default: the robot's)")
-    p.add_argument("--modes", type=int, default=None,
+    p.add_argument("--mesh-size", type=MESH_SIZE, default=None,
+                   help="tet edge of flexible links [m], e.g. 0.03 or 30mm (default: the "
+                        "robot's)")
+    p.add_argument("--modes", type=count(0, 500), default=None,
                    help="Craig-Bampton modes per link (default: the robot's)")
     p.add_argument("--coupling", default="rbe2", choices=["rbe2", "rbe3"],
                    help="seat coupling of flexible links")
@@ -209,19 +217,20 @@ def pose_from(robot, args):
 
 
 def floats(text: str, what: str = "value") -> list[float]:
-    """``"0.06,0.045"`` -> ``[0.06, 0.045]``; a bad entry names ``what``."""
-    try:
-        return [float(s) for s in text.split(",") if s.strip()]
-    except ValueError:
-        raise ValueError(f"{what} must be comma-separated numbers, got '{text}'") from None
+    """``"0.06,0.045"`` -> ``[0.06, 0.045]`` (finite numbers); a bad entry names ``what``.
+    An option's values are better read by its type (:mod:`._numbers`)."""
+    from ..fe.quantities import Quantity, parse_list
+
+    return parse_list(text, Quantity("ratio"), what)
 
 
 def ints(text: str, what: str = "value") -> list[int]:
     """``"0,5,10"`` -> ``[0, 5, 10]``; a bad entry names ``what``."""
-    try:
-        return [int(s) for s in text.split(",") if s.strip()]
-    except ValueError:
-        raise ValueError(f"{what} must be comma-separated integers, got '{text}'") from None
+    from ..fe.quantities import parse_count
+
+    if not text.strip():
+        raise ValueError(f"{what} '': expected comma-separated whole numbers")
+    return [parse_count(s.strip(), what, -2**31, 2**31 - 1) for s in text.split(",")]
 
 
 def names(text: str) -> list[str]:

@@ -7,7 +7,8 @@ import dataclasses
 import os
 import warnings
 
-from ._common import add_robot_args, arm_from, command, floats, out, pose_from, robot_from, wrote
+from ._common import add_robot_args, arm_from, command, out, pose_from, robot_from, wrote
+from ._numbers import count, number, or_word
 
 #: Every arm analysis runs on the E-model, the flexible arm or the full-FE arm (solved
 #: pose by pose: a map over thousands of poses is for the reduced models).
@@ -23,11 +24,14 @@ def _add_import_urdf(p: argparse.ArgumentParser) -> None:
                         "to it; published meshes are referenced by relative path)")
     p.add_argument("--meshes", default="collision", choices=["collision", "visual"],
                    help="which URDF geometry becomes the link CAD (STL, OBJ, PLY, DAE)")
-    p.add_argument("--total-mass", type=float, default=None, metavar="KG",
+    p.add_argument("--total-mass", type=number("mass", "kg", 0, 1e5, open_low=True),
+                   default=None, metavar="KG",
                    help="the robot's datasheet mass: the link densities are scaled so it "
                         "weighs KG (solid CAD hulls of hollow castings are far too heavy)")
-    p.add_argument("--wall", default=None, metavar="M|auto",
-                   help="hollow every solid link hull to walls this thick [m], or 'auto': "
+    p.add_argument("--wall", type=or_word("auto", number("length", "m", 0, 1, open_low=True)),
+                   default=None, metavar="M|auto",
+                   help="hollow every solid link hull to walls this thick [m] (8mm: with a "
+                        "unit), or 'auto': "
                         "the wall that makes the robot weigh --total-mass (stiffer-to-truth "
                         "than scaling the density of a solid hull)")
     p.add_argument("--no-regions", action="store_true",
@@ -48,7 +52,7 @@ def _run_import_urdf(args) -> int:
     from ..studies.import_urdf import derived_meshes_dir, import_urdf
     from ..studies.seat_check import build_problems
 
-    wall = args.wall if args.wall in (None, "auto") else floats(args.wall, "--wall")[0]
+    wall = args.wall
     seats = [parse_seat(text) for text in args.seat]  # a bad one fails before any work
     imported = import_urdf(args.urdf, args.meshes, args.total_mass,
                            derived_dir=derived_meshes_dir(args.output), wall=wall,
@@ -68,7 +72,7 @@ def _run_import_urdf(args) -> int:
 # --- modes -----------------------------------------------------------------------------
 def _add_modes(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS)
-    p.add_argument("-n", "--n-modes", type=int, default=None,
+    p.add_argument("-n", "--n-modes", type=count(1, 100_000), default=None,
                    help="modes to list (default 24, or all the model has)")
     p.add_argument("-o", "--output", default=None, help="folder for mode_energy.csv and .png")
 
@@ -78,8 +82,6 @@ def _run_modes(args) -> int:
     from ..assembly.analyses import modes
     from ..studies.plots import write_mode_energy
 
-    if args.n_modes is not None and args.n_modes < 1:
-        raise ValueError(f"--n-modes: list at least 1 mode, got {args.n_modes}")
     robot = robot_from(args)
     q = pose_from(robot, args)  # a bad pose fails before any meshing
     arm = arm_from(args, robot)
@@ -98,7 +100,8 @@ def _run_modes(args) -> int:
 # --- compliance ------------------------------------------------------------------------
 def _add_compliance(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS)
-    p.add_argument("--force", type=float, default=800.0, help="load per direction [N]")
+    p.add_argument("--force", type=number("force", "N", 0, 1e6, open_low=True), default=800.0,
+                   help="load per direction [N] (0.8kN: with a unit)")
     p.add_argument("-o", "--output", default=None, help="folder for compliance.csv")
 
 
@@ -120,7 +123,8 @@ def _run_compliance(args) -> int:
 # --- frf -------------------------------------------------------------------------------
 def _add_frf(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS)
-    p.add_argument("--fmax", type=float, default=100.0, help="highest frequency [Hz]")
+    p.add_argument("--fmax", type=number("frequency", "Hz", 0, 1e5, open_low=True),
+                   default=100.0, help="highest frequency [Hz]")
     p.add_argument("-o", "--output", default=None, help="folder for the Bode PNG and CSV")
 
 
@@ -150,7 +154,7 @@ def _grid_collisions(robot, m):
 
 def _add_map(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MAP_MODELS)
-    p.add_argument("--n", type=int, default=60, help="grid points per joint")
+    p.add_argument("--n", type=count(2, 1000), default=60, help="grid points per joint")
     p.add_argument("--no-frequencies", action="store_true", help="skip the first eigenfrequency")
     p.add_argument("-o", "--output", default=None, help="folder for map.csv and the PNGs")
 
@@ -160,8 +164,6 @@ def _add_map(p: argparse.ArgumentParser) -> None:
 def _run_map(args) -> int:
     from ..assembly.maps import limits_map, plot_map, write_csv, write_ratio
 
-    if args.n < 2:
-        raise ValueError(f"--n: a map needs at least 2 grid points per joint, got {args.n}")
     robot = robot_from(args)
     q = pose_from(robot, args)  # a bad pose fails before any meshing
     arm = arm_from(args, robot)

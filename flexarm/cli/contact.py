@@ -10,13 +10,16 @@ from ._common import (
     arm_from,
     arm_spec_from,
     command,
-    floats,
     out,
     pose_from,
     robot_from,
     say,
     wrote,
 )
+from ._numbers import count, effect, number, numbers
+
+#: Angles in the cutting plane [deg]: any sign, up to a turn either way.
+_PLANE_ANGLE = number("angle", "deg", -360, 360)
 
 #: The circle test runs on the E-model or the flexible arm.
 _MODELS = ("emodel", "cb", "guyan")
@@ -27,18 +30,21 @@ def _add_circle(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS, pose=False)
     p.add_argument("--compare-models", action="store_true",
                    help="overlay the E-model and the flexible model (cb unless --model guyan)")
-    p.add_argument("--effect", action="append", default=[],
+    p.add_argument("--effect", action="append", default=[], type=effect,
                    help="joint effect on top of the robot file's [nonlinear] table, e.g. "
                         "backlash:j3=0.2mrad (repeatable)")
     p.add_argument("-o", "--output", default=None, help="folder for PNG/CSV output")
     p.add_argument("--rapid", default=None, help="RAPID module (default: the thesis's appendix B)")
     p.add_argument("--proc", default="Path_30", help="procedure name")
-    p.add_argument("--loads", default="0,200,400,800", help="bar forces [N], comma-separated")
+    p.add_argument("--loads", type=numbers("force", "N", 0, 1e5), default="0,200,400,800",
+                   help="bar forces [N], comma-separated")
     p.add_argument("--pull", action="store_true", help="the bar pulls (default: pushes)")
-    p.add_argument("--pivot", default=None, help="bar pivot x,y,z [mm] (default: fitted)")
+    p.add_argument("--pivot", type=numbers("length", "mm", -1e4, 1e4, n=3, result="m"),
+                   default=None, help="bar pivot x,y,z [mm] (default: fitted)")
     p.add_argument("--tool", default="tool0", choices=["tool0", "robot"],
                    help="load point: flange (tool0, as programmed) or the robot's TCP")
-    p.add_argument("--step", type=float, default=2.0, help="path sampling step [mm]")
+    p.add_argument("--step", type=number("length", "mm", 0, 1000, open_low=True), default=2.0,
+                   help="path sampling step [mm]")
     p.add_argument("--measured", default=None,
                    help="measured circle to overlay: path CSV or static-schema CSV")
 
@@ -53,10 +59,14 @@ def _run_circle(args) -> int:
     models = [args.model]
     if args.compare_models:
         models = ["emodel", "guyan" if args.model == "guyan" else "cb"]
-    pivot = None if args.pivot is None else [v * 1e-3 for v in floats(args.pivot, "--pivot")]
-    res = run_circle(robot, [parse_effect(e, robot.chain.n_joints) for e in args.effect],
-                     models, args.rapid, args.proc, floats(args.loads, "--loads"), args.pull,
-                     pivot, args.tool, args.step, args.measured, arm_spec_from(args),
+    effects = []
+    for text in args.effect:  # values were checked by the option's type; joints are now
+        try:
+            effects.append(parse_effect(text, robot.chain.n_joints))
+        except ValueError as exc:  # "effect 'SPEC': ...", the option's name and value
+            raise ValueError(f"--{exc}") from None
+    res = run_circle(robot, effects, models, args.rapid, args.proc, args.loads, args.pull,
+                     args.pivot, args.tool, args.step, args.measured, arm_spec_from(args),
                      progress=say)
     out(res.text())
     if args.output:
@@ -67,12 +77,16 @@ def _run_circle(args) -> int:
 # --- chatter ---------------------------------------------------------------------------
 def _add_chatter(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS + ("full",))
-    p.add_argument("--kc", type=float, default=2e6, help="process stiffness K_c*b [N/m]")
-    p.add_argument("--dir", type=float, default=30.0, help="force angle from the normal [deg]")
-    p.add_argument("--normal", type=float, default=None,
+    p.add_argument("--kc", type=number("stiffness", "N/m", 0, 1e10), default=2e6,
+                   help="process stiffness K_c*b [N/m] (5e5, 0.5N/um)")
+    p.add_argument("--dir", type=_PLANE_ANGLE, default=30.0,
+                   help="force angle from the normal [deg]")
+    p.add_argument("--normal", type=_PLANE_ANGLE, default=None,
                    help="surface-normal angle from e1 in the plane [deg] (default: worst case)")
-    p.add_argument("--cnc-stiffness", type=float, default=5e7, help="CNC stiffness [N/m]")
-    p.add_argument("--duration", type=float, default=2.0, help="simulated time [s]")
+    p.add_argument("--cnc-stiffness", type=number("stiffness", "N/m", 0, 1e12, open_low=True),
+                   default=5e7, help="CNC stiffness [N/m]")
+    p.add_argument("--duration", type=number("time", "s", 0, 100, open_low=True), default=2.0,
+                   help="simulated time [s]")
     p.add_argument("-o", "--output", default=None,
                    help="folder for chatter_time.csv and the PNGs")
 
@@ -96,10 +110,11 @@ def _run_chatter(args) -> int:
 # --- chatter-map -----------------------------------------------------------------------
 def _add_chatter_map(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, _MODELS)
-    p.add_argument("--dir", type=float, default=30.0, help="force angle from the normal [deg]")
-    p.add_argument("--normal", type=float, default=None,
+    p.add_argument("--dir", type=_PLANE_ANGLE, default=30.0,
+                   help="force angle from the normal [deg]")
+    p.add_argument("--normal", type=_PLANE_ANGLE, default=None,
                    help="surface-normal angle in the plane [deg] (default: worst case)")
-    p.add_argument("--n", type=int, default=25, help="grid points per joint")
+    p.add_argument("--n", type=count(2, 200), default=25, help="grid points per joint")
     p.add_argument("-o", "--output", default=None, help="folder for the CSV and PNG")
 
 
@@ -108,8 +123,6 @@ def _add_chatter_map(p: argparse.ArgumentParser) -> None:
 def _run_chatter_map(args) -> int:
     from ..studies.contact import chatter_limits_map, write_chatter_map
 
-    if args.n < 2:
-        raise ValueError(f"--n: a map needs at least 2 grid points per joint, got {args.n}")
     robot = robot_from(args)
     q = pose_from(robot, args)  # a bad pose fails before any meshing
     arm = arm_from(args, robot)

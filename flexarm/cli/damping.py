@@ -7,6 +7,7 @@ import argparse
 from pathlib import Path
 
 from ._common import command, out, wrote
+from ._numbers import number
 
 
 def _add_fit_damping(p: argparse.ArgumentParser) -> None:
@@ -27,7 +28,8 @@ def _add_fit_damping(p: argparse.ArgumentParser) -> None:
 
 
 def _add_max_hz(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--max-hz", type=float, default=None,
+    p.add_argument("--max-hz", type=number("frequency", "Hz", 0, 1e5, open_low=True),
+                   default=None,
                    help="leave out modes above this frequency [Hz], e.g. the upper edge of "
                         "the FRF band 'ema' identified them in (default: use every mode)")
     p.add_argument("--pose", default=None,
@@ -64,9 +66,11 @@ def _add_check_damping(p: argparse.ArgumentParser) -> None:
     p.add_argument("modal", help="modal data with damping ratios (CSV or universal file)")
     p.add_argument("--robot", default=None,
                    help="robot TOML or URDF under test (default: the built-in demo arm)")
-    p.add_argument("--sigma-pct", type=float, default=5.0,
+    p.add_argument("--sigma-pct", type=number("ratio", "%", 0, 100, open_low=True,
+                                              open_high=True), default=5.0,
                    help="relative scatter of an identified damping ratio [%%]")
-    p.add_argument("--alpha", type=float, default=0.01,
+    p.add_argument("--alpha", type=number("ratio", "", 0, 1, open_low=True, open_high=True),
+                   default=0.01,
                    help="chance of accepting a joint on damping-correct data (at most)")
     p.add_argument("--plot", type=Path, default=None, metavar="PNG",
                    help="also draw each mode's measured/model damping ratio against each "
@@ -79,10 +83,6 @@ def _add_check_damping(p: argparse.ArgumentParser) -> None:
 def _run_check_damping(args) -> int:
     from ..validation.dynamic.damping_check import diagnose_damping
 
-    if not 0 < args.sigma_pct < 100:
-        raise ValueError(f"--sigma-pct {args.sigma_pct}: must lie in (0, 100)")
-    if not 0 < args.alpha < 1:
-        raise ValueError(f"--alpha {args.alpha}: must lie in (0, 1)")
     res = diagnose_damping(args.modal, args.robot, args.sigma_pct / 100, args.alpha,
                            max_hz=args.max_hz, pose=args.pose)
     out(res.text())

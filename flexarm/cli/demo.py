@@ -5,13 +5,14 @@ from __future__ import annotations
 import argparse
 
 from ._common import command, out, say
+from ._numbers import count
 
 
 def _add_demo(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", default="flexarm-demo", help="output folder")
     p.add_argument("--part", action="store_true",
                    help="also run the single-part pipeline (full FE modes of one cast link)")
-    p.add_argument("-j", "--jobs", type=int, default=2,
+    p.add_argument("-j", "--jobs", type=count(1, 64), default=2,
                    help="processes (default 2: the E-model and measurement steps run beside the "
                         "flexible arm; 1: every step in order, in this process)")
 

@@ -11,13 +11,17 @@ from ._common import (
     add_robot_args,
     arm_from,
     command,
-    floats,
     out,
     pose_from,
     robot_from,
     say,
     wrote,
 )
+from ._numbers import count, number, numbers
+
+#: A simulated time and its step [s].
+_TIME = number("time", "s", 0, 100, open_low=True)
+_STEP = number("time", "s", 0, 1, open_low=True)
 
 _MODELS = ("emodel", "guyan", "cb", "full")
 
@@ -29,7 +33,7 @@ def _add_export_arm(p: argparse.ArgumentParser) -> None:
                    help="ss = state-space A, B, C, D with modal data (.mat, .npz); op4 = "
                         "the reduced arm's K, M, damping, TCP map and every link "
                         "superelement as Nastran OP4 (default: from the extension)")
-    p.add_argument("--n-modes", type=int, default=None,
+    p.add_argument("--n-modes", type=count(1, 100_000), default=None,
                    help="state space: keep the lowest N modes, the rest as static residual "
                         "in D (default: every mode of a reduced arm)")
     p.add_argument("-o", "--output", required=True, help="arm_P1.mat | .npz | .op4")
@@ -103,10 +107,11 @@ def _run_export_exudyn(args) -> int:
 # --- exudyn-impulse --------------------------------------------------------------------
 def _add_exudyn_impulse(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, ("emodel", "cb", "guyan"))
-    p.add_argument("--direction", default="1,1,1", help="pulse direction x,y,z (base frame)")
-    p.add_argument("--duration", type=float, default=3.0, help="simulated time [s]")
-    p.add_argument("--dt", type=float, default=5e-4, help="time step [s]")
-    p.add_argument("-n", "--n-modes", type=int, default=3, help="modes to compare")
+    p.add_argument("--direction", type=numbers("ratio", "", -1e6, 1e6, n=3), default="1,1,1",
+                   help="pulse direction x,y,z (base frame)")
+    p.add_argument("--duration", type=_TIME, default=3.0, help="simulated time [s]")
+    p.add_argument("--dt", type=_STEP, default=5e-4, help="time step [s] (0.5ms: with a unit)")
+    p.add_argument("-n", "--n-modes", type=count(1, 100), default=3, help="modes to compare")
     p.add_argument("-o", "--output", default=None, help="folder for impulse.png")
 
 
@@ -117,10 +122,11 @@ def _run_exudyn_impulse(args) -> int:
     from ..studies.exudyn.impulse import impulse_test
     from ..studies.exudyn.model import require_exudyn
 
-    direction = floats(args.direction, "--direction")
-    if len(direction) != 3 or not any(direction):
-        raise ValueError(f"--direction must be 3 numbers, not all zero, got '{args.direction}'")
-    if not 0 < args.dt < args.duration:
+    direction = args.direction
+    if not any(direction):
+        raise ValueError(f"--direction {','.join(f'{v:g}' for v in direction)}: all zero, "
+                         "no direction")
+    if not args.dt < args.duration:
         raise ValueError(f"--dt and --duration must satisfy 0 < dt < duration [s], got "
                          f"{args.dt:g} and {args.duration:g}")
     require_exudyn()
@@ -130,7 +136,8 @@ def _run_exudyn_impulse(args) -> int:
     with Progress(f"Exudyn: {args.duration:g} s after a TCP pulse, step {args.dt:g} s"):
         res = impulse_test(arm, q, direction, args.n_modes, args.duration, args.dt,
                            progress=say)
-    out(f"{arm.spec.label} arm at {args.pose}, TCP impulse along {args.direction}:")
+    out(f"{arm.spec.label} arm at {args.pose}, TCP impulse along "
+        f"{','.join(f'{v:g}' for v in direction)}:")
     out(res.text())
     if args.output:
         wrote(res.write(args.output))
@@ -142,11 +149,12 @@ def _add_exudyn_circle(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, ("emodel", "cb", "guyan"), pose=False)
     p.add_argument("--rapid", default=None, help="RAPID module (default: the thesis's appendix B)")
     p.add_argument("--proc", default="Path_30", help="procedure name")
-    p.add_argument("--force", type=float, default=200.0, help="bar force [N]")
+    p.add_argument("--force", type=number("force", "N", 0, 1e5), default=200.0,
+                   help="bar force [N]")
     p.add_argument("--pull", action="store_true", help="the bar pulls (default: pushes)")
-    p.add_argument("--speed", type=float, default=None,
+    p.add_argument("--speed", type=number("speed", "mm/s", 0, 1e4, open_low=True), default=None,
                    help="TCP speed [mm/s] (default: the program's vNNN)")
-    p.add_argument("--dt", type=float, default=2e-3, help="time step [s]")
+    p.add_argument("--dt", type=_STEP, default=2e-3, help="time step [s]")
     p.add_argument("-o", "--output", default=None, help="folder for path_<proc>.png")
 
 
@@ -157,11 +165,6 @@ def _run_exudyn_circle(args) -> int:
     from ..studies.exudyn.model import require_exudyn
     from ..studies.exudyn.path import exudyn_circle
 
-    if args.speed is not None and args.speed <= 0:
-        raise ValueError(f"--speed must be > 0 mm/s, got {args.speed:g}")
-    if not args.dt > 0 or args.force < 0:
-        raise ValueError(f"--dt must be > 0 s and --force >= 0 N, got {args.dt:g}, "
-                         f"{args.force:g}")
     require_exudyn()
     arm = arm_from(args, robot_from(args))
     speed = None if args.speed is None else args.speed * 1e-3

@@ -6,12 +6,12 @@ import argparse
 from pathlib import Path
 
 from ._common import (
+    DISPLACEMENT,
+    MESH_SIZE,
     add_flexible_args,
     add_robot_args,
     arm_from,
     command,
-    floats,
-    ints,
     names,
     out,
     pose_from,
@@ -19,6 +19,7 @@ from ._common import (
     say,
     wrote,
 )
+from ._numbers import count, counts, number, numbers
 
 
 # --- build -----------------------------------------------------------------------------
@@ -26,15 +27,19 @@ def _add_build(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
     p.add_argument("--method", default="cb", choices=["cb", "guyan"], help="reduction")
     add_flexible_args(p)
+    p.add_argument("-j", "--jobs", type=count(1, 256), default=None,
+                   help="processes meshing the links side by side (default: one per core; "
+                        "1: every link in this process, in order)")
 
 
-@command("build", "mesh and reduce every link of a robot (cached superelements)", _add_build)
+@command("build", "mesh and reduce every link of a robot (cached superelements); a table "
+         "of the mesher, elements and time per link", _add_build)
 def _run_build(args) -> int:
-    from ..assembly.build import BuildOptions, build_robot, builds_text
+    from ..assembly.build import BuildOptions, robot_build
 
     robot = robot_from(args)
     opts = BuildOptions(args.method, args.modes, args.coupling, args.mesh_size)
-    out(builds_text(build_robot(robot, opts, progress=say)))
+    out(robot_build(robot, opts, progress=say, jobs=args.jobs).text())
     _check_pairs(robot, args.mesh_size)
     return 0
 
@@ -110,9 +115,10 @@ def _add_study(p: argparse.ArgumentParser) -> None:
                    "P1, else the robot's first named pose, else zeros)")
     p.add_argument("--preset", default="full", choices=["small", "full"],
                    help="named sweep (explicit --sizes/--modes/--couplings override it)")
-    p.add_argument("--sizes", default=None,
+    p.add_argument("--sizes", type=numbers("length", "m", 0, 2, open_low=True), default=None,
                    help="tet edges [m], e.g. 0.06,0.045,0.03 (default 1.5x and 1x the robot's)")
-    p.add_argument("--modes", default=None, help="CB modes per link, 0 = Guyan (0,5,10,20)")
+    p.add_argument("--modes", type=counts(0, 500), default=None,
+                   help="CB modes per link, 0 = Guyan (0,5,10,20)")
     p.add_argument("--couplings", default=None, help="rbe2,rbe3,k<N> (rbe2,rbe3,k4,k8)")
     p.add_argument("--reference-coupling", default="rbe2", choices=["rbe2", "rbe3"])
     p.add_argument("--tet10", action="store_true",
@@ -129,8 +135,7 @@ def _run_study(args) -> int:
     robot = robot_from(args)
     pose_from(robot, args)  # the default pose, and a bad one fails before any meshing
     res = run_study(robot, args.pose,
-                    sizes=floats(args.sizes, "--sizes") if args.sizes else None,
-                    modes=ints(args.modes, "--modes") if args.modes else None,
+                    sizes=args.sizes, modes=args.modes,
                     couplings=names(args.couplings) if args.couplings else None,
                     out_dir=args.output, progress=say, preset=args.preset,
                     reference_coupling=args.reference_coupling, tet10=args.tet10)
@@ -142,10 +147,10 @@ def _run_study(args) -> int:
 # --- show-arm --------------------------------------------------------------------------
 def _add_show_arm(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, ("emodel", "cb", "guyan"))
-    p.add_argument("--mode", type=int, default=1, help="arm mode number (1-based)")
-    p.add_argument("--amplitude", type=float, default=0.06,
+    p.add_argument("--mode", type=count(1), default=1, help="arm mode number (1-based)")
+    p.add_argument("--amplitude", type=number("ratio", "", 0, 1, open_low=True), default=0.06,
                    help="largest drawn displacement / arm size")
-    p.add_argument("--max-displacement", type=float, default=None, metavar="M",
+    p.add_argument("--max-displacement", type=DISPLACEMENT, default=None, metavar="M",
                    help=".vtu/.vtk: scale the shape to this largest displacement [m] "
                         "(default: mass-normalised); stated in the file's field data")
     p.add_argument("--ellipsoid", action="store_true", help="draw the TCP compliance ellipsoid")
@@ -185,7 +190,7 @@ def _run_show_arm(args) -> int:
 # --- show-regions ----------------------------------------------------------------------
 def _add_show_regions(p: argparse.ArgumentParser) -> None:
     p.add_argument("--robot", default=None, help="robot TOML or URDF (default: built-in demo arm)")
-    p.add_argument("--mesh-size", type=float, default=None,
+    p.add_argument("--mesh-size", type=MESH_SIZE, default=None,
                    help="tet edge of the link meshes [m] (default: the robot's)")
     p.add_argument("--links", default=None, help="comma-separated link names (default: all)")
     p.add_argument("-o", "--output", default=None,

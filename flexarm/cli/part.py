@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 import os
 
-from ._common import Progress, command, ints, names, out, say, set_quiet, wrote
+from ._common import DISPLACEMENT, Progress, command, names, out, say, set_quiet, wrote
+from ._numbers import count, counts, number
 
 _MATERIAL_HELP = "steel | cast_iron | aluminium | nafems | 'E,nu,rho' in SI units"
 #: The names of ``flexarm.reduction.formats.registry`` (a test holds them equal): the
@@ -17,7 +18,8 @@ _SE_FORMATS = ("h5", "npz", "mtx", "dmig", "op4")
 def _add_mesh(p: argparse.ArgumentParser) -> None:
     p.add_argument("surface", help="CAD surface: STL, OBJ or PLY")
     p.add_argument("--units", default="m", help="length unit of the CAD file: m, mm, cm, in")
-    p.add_argument("--size", type=float, required=True, help="target edge length [m]")
+    p.add_argument("--size", type=number("length", "m", 0, 10, open_low=True), required=True,
+                   help="target edge length [m], e.g. 0.01 or 10mm")
     p.add_argument("--order", type=int, choices=(1, 2), default=1, help="1 = Tet4, 2 = Tet10")
     p.add_argument("--no-optimize", action="store_true", help="skip fTetWild optimisation")
     p.add_argument("--no-cache", action="store_true", help="ignore the tetrahedralisation cache")
@@ -30,8 +32,6 @@ def _add_mesh(p: argparse.ArgumentParser) -> None:
 def _run_mesh(args) -> int:
     from ..meshes import mesh_part, write_volume_mesh
 
-    if args.size <= 0:
-        raise ValueError(f"--size must be a positive edge length in metres, got {args.size}")
     with Progress(f"meshing {args.surface} (edge {args.size * 1e3:g} mm, "
                   f"Tet{4 if args.order == 1 else 10})") as pr:
         mesh, quality = mesh_part(
@@ -52,7 +52,8 @@ def _add_modal(p: argparse.ArgumentParser) -> None:
     p.add_argument("--fix", default=None,
                    help="clamped nodes, e.g. 'x=min', 'z<0.01', a node-set name; "
                         "omit for a free part")
-    p.add_argument("-n", "--modes", type=int, default=10, help="number of modes (elastic)")
+    p.add_argument("-n", "--modes", type=count(1, 100_000), default=10,
+                   help="number of modes (elastic), at most what the part's DOF allow")
     p.add_argument("--backend", default=None, help="sparse solver: pardiso | cholmod | splu")
     p.add_argument("--csv", default=None, help="also write the table to this CSV file")
 
@@ -61,7 +62,7 @@ def _add_modal(p: argparse.ArgumentParser) -> None:
 def _run_modal(args) -> int:
     from ..fe import material_from_string, select_nodes
     from ..meshes import read_volume_mesh
-    from ..studies.part_modes import part_modes
+    from ..studies.part_modes import mode_limit, part_modes
 
     material = material_from_string(args.material)
     mesh = read_volume_mesh(args.mesh).check(args.mesh)
@@ -71,6 +72,10 @@ def _run_modal(args) -> int:
         except ValueError as exc:
             raise ValueError(f"{args.mesh}: --fix {exc}") from None
         _check_clamp(args.mesh, args.fix, mesh.points[fixed])
+    n_free = mesh.n_dofs - 3 * (len(set(fixed.tolist())) if args.fix else 0)
+    if args.modes > mode_limit(n_free, not args.fix):  # else a dense solve of every mode
+        raise ValueError(f"-n/--modes {args.modes}: {args.mesh} has {n_free} free DOF, at "
+                         f"most {mode_limit(n_free, not args.fix)} elastic modes")
     with Progress(f"modes of {mesh.n_tets} Tet{4 if mesh.order == 1 else 10} "
                   f"({mesh.n_dofs} DOF)") as pr:
         res = part_modes(mesh, material, args.modes, args.fix, args.backend, progress=pr.note)
@@ -110,10 +115,11 @@ def _add_reduce(p: argparse.ArgumentParser) -> None:
                    help="a node set of the mesh as an interface (after the cylinders)")
     p.add_argument("--coupling", default="rbe2", choices=["rbe2", "rbe3", "nodes"],
                    help="rbe2 = rigid spider, rbe3 = weighted average, nodes = keep region nodes")
-    p.add_argument("--masters", type=int, default=None,
+    p.add_argument("--masters", type=count(1), default=None,
                    help="with --coupling nodes: region nodes kept per interface (default all)")
     p.add_argument("--method", default="cb", choices=["guyan", "cb"])
-    p.add_argument("--modes", type=int, default=20, help="fixed-interface modes (cb)")
+    p.add_argument("--modes", type=count(0, 10_000), default=20,
+                   help="fixed-interface modes (cb)")
     p.add_argument("--diagonal", action="store_true",
                    help="modal block exactly M = I, K = diag(omega^2)")
     p.add_argument("--material", default="steel", help=_MATERIAL_HELP)
@@ -171,14 +177,14 @@ def _run_reduce(args) -> int:
 # --- show ------------------------------------------------------------------------------
 def _add_show(p: argparse.ArgumentParser) -> None:
     p.add_argument("superelement", help="superelement file (.h5 or .npz for pictures)")
-    p.add_argument("--mode", type=int, default=None, help="mode number to draw (1-based)")
+    p.add_argument("--mode", type=count(1), default=None, help="mode number to draw (1-based)")
     p.add_argument("--boundary", default=None, choices=["fixed", "free"],
                    help="fixed-interface (default when available) or free-free modes")
     p.add_argument("-o", "--output", default=None,
                    help="picture .png or .gif (animation), or the mode shape as .vtu/.vtk "
                         "for ParaView")
-    p.add_argument("--frames", type=int, default=24, help="GIF frames per period")
-    p.add_argument("--max-displacement", type=float, default=None, metavar="M",
+    p.add_argument("--frames", type=count(2, 200), default=24, help="GIF frames per period")
+    p.add_argument("--max-displacement", type=DISPLACEMENT, default=None, metavar="M",
                    help=".vtu/.vtk: scale the shape to this largest displacement [m] "
                         "(default: mass-normalised); stated in the file's field data")
     p.add_argument("--interactive", action="store_true", help="open a window (needs a display)")
@@ -238,7 +244,8 @@ def _add_study_part(p: argparse.ArgumentParser) -> None:
                    help="two regions with --mesh; the first one is clamped")
     p.add_argument("--divisions", default="12x2x2,24x3x3",
                    help="built-in bar meshes (cells along x, y, z), comma-separated")
-    p.add_argument("--modes", default="0,5,10,20,40", help="CB mode counts (0 = Guyan)")
+    p.add_argument("--modes", type=counts(0, 1000), default="0,5,10,20,40",
+                   help="CB mode counts (0 = Guyan)")
     p.add_argument("--representations", default="rbe2,rbe3,k4,k8,k16,all",
                    help="interface representations: rbe2, rbe3, k4, k8, k16, all")
     p.add_argument("--material", default="steel")
@@ -246,15 +253,14 @@ def _add_study_part(p: argparse.ArgumentParser) -> None:
 
 
 def _divisions(text: str) -> list[tuple[int, int, int]]:
+    from ..fe.quantities import parse_count
+
     out_ = []
     for d in names(text):
-        try:
-            div = tuple(int(v) for v in d.lower().split("x"))
-        except ValueError:
-            div = ()
-        if len(div) != 3:
+        cells = d.lower().split("x")
+        if len(cells) != 3:
             raise ValueError(f"--divisions entries must look like 12x2x2, got '{d}'")
-        out_.append(div)
+        out_.append(tuple(parse_count(v, f"--divisions {d}: cells", 1, 1000) for v in cells))
     return out_
 
 
@@ -265,7 +271,7 @@ def _run_study_part(args) -> int:
     from ..studies.part_study import run_part_study
 
     material = material_from_string(args.material)
-    counts = ints(args.modes, "--modes")
+    n_modes = args.modes
     reps = names(args.representations)
     mesh = None
     if args.mesh:
@@ -278,8 +284,8 @@ def _run_study_part(args) -> int:
                 [parse_cylinder(t) for t in args.interface])
     divisions = [] if mesh else _divisions(args.divisions)
     with Progress(f"study: {max(1, len(divisions))} meshes x {len(reps)} representations x "
-                  f"{len(counts)} mode counts"):
-        res = run_part_study(material, reps, counts, divisions, mesh, args.output)
+                  f"{len(n_modes)} mode counts"):
+        res = run_part_study(material, reps, n_modes, divisions, mesh, args.output)
     out(res.text())
     wrote(res.files)
     return 0

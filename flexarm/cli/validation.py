@@ -4,16 +4,26 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_measured_pose_args, add_robot_args, command, out, say, wrote
+from ._common import MESH_SIZE, add_measured_pose_args, add_robot_args, command, out, say, wrote
+from ._numbers import band, count, effect, levels, number
+
+#: The tracker noise of files without a sigma column [µm] (a bare number is µm).
+_TRACKER_UM = number("length", "um", 0, 1e4, open_low=True)
+#: A relative scatter [%] (a bare number is per cent).
+_PERCENT = number("ratio", "%", 0, 100, open_low=True)
+#: Load levels [N]: ``start:stop:step`` or a comma list.
+LOADS = levels("force", "N", 0, 1e6)
+#: Lab noise: a length with its unit, returned in metres.
+_LAB_NOISE = number("length", "um", 0, 1e4, bare=False, result="m")
 
 
 def _add_validation_common(p: argparse.ArgumentParser) -> None:
     add_robot_args(p, ("emodel", "cb", "guyan"), pose=False)
     p.add_argument("--flexible", action="store_true", help="build the flexible model (link "
                    "flexibility); the E-model then takes its masses from the same tet meshes")
-    p.add_argument("--flex-mesh", type=float, default=0.06,
+    p.add_argument("--flex-mesh", type=MESH_SIZE, default=0.06,
                    help="tet size [m] of that coarse flexible model (default 0.06, cached)")
-    p.add_argument("--flex-modes", type=int, default=4,
+    p.add_argument("--flex-modes", type=count(0, 500), default=4,
                    help="Craig-Bampton modes per link of that flexible model (default 4)")
 
 
@@ -28,35 +38,30 @@ def _options(args):
 # --- lab -------------------------------------------------------------------------------
 def _add_lab(p: argparse.ArgumentParser) -> None:
     _add_validation_common(p)
-    p.add_argument("--effect", action="append", default=[],
-                   help="hidden effect, e.g. backlash:j2=0.1mrad (repeatable)")
-    p.add_argument("--noise", default="15um", help="tracker noise, e.g. 15um (or 15µm)")
+    p.add_argument("--effect", action="append", default=[], type=effect,
+                   help="hidden effect, e.g. backlash:j2=0.1mrad (repeatable; angles and "
+                        "lengths with their unit)")
+    p.add_argument("--noise", type=_LAB_NOISE, default="15um",
+                   help="tracker noise with its unit, e.g. 15um (or 15µm)")
     p.add_argument("--poses", default="P1,P2,P3", help="named poses (P1,P2), or joint "
                    "angles [deg] of each pose separated by ';' (0,52,-19,12,-15,-11;...)")
-    p.add_argument("--loads", default="0:800:100", help="load levels [N] start:stop:step")
+    p.add_argument("--loads", type=LOADS, default="0:800:100",
+                   help="load levels [N] start:stop:step or a comma list")
     p.add_argument("--dirs", default="x,y,z", help="load directions, e.g. x,y,z,-z")
     p.add_argument("--cycles", action="store_true", help="load then unload each series")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--ref-noise", default="0um", help="extra error of each series' reference "
-                   "reading, e.g. 45um (tracker re-lock; stated in the sigma column)")
+    p.add_argument("--seed", type=count(0, 2**32 - 1), default=0)
+    p.add_argument("--ref-noise", type=_LAB_NOISE, default="0um",
+                   help="extra error of each series' reference reading with its unit, e.g. "
+                        "45um (tracker re-lock; stated in the sigma column)")
     p.add_argument("--modal", default=None, help="also write natural frequencies to this CSV")
-    p.add_argument("--n-modes", type=int, default=4, help="modes per pose in --modal")
-    p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
-    p.add_argument("--frf-band", default=None, help="band of the FRFs of a --modal universal "
+    p.add_argument("--n-modes", type=count(1, 100), default=4, help="modes per pose in --modal")
+    p.add_argument("--freq-noise", type=number("ratio", "%", 0, 100), default=0.5,
+                   help="frequency noise [%%]")
+    p.add_argument("--frf-band", type=band("frequency", "Hz", 0, 1e5, open_low=True),
+                   default=None, help="band of the FRFs of a --modal universal "
                    "file [Hz], LO:HI (default: 0.25 Hz to 1.2x the highest mode kept), "
                    "e.g. 0.25:300 to reach the wrist modes")
     p.add_argument("-o", "--output", required=True, help="static CSV to write")
-
-
-def _band(text: str | None) -> tuple | None:
-    """``LO:HI`` [Hz] as a pair of floats (None stays None)."""
-    if text is None:
-        return None
-    try:
-        lo, hi = (float(v) for v in text.split(":"))
-    except ValueError:
-        raise ValueError(f"--frf-band '{text}': expected LO:HI in Hz, e.g. 0.25:300") from None
-    return lo, hi
 
 
 @command("lab", "virtual lab: static series from the model + hidden effects + tracker noise",
@@ -68,7 +73,7 @@ def _run_lab(args) -> int:
                   loads=args.loads, dirs=args.dirs, cycles=args.cycles, seed=args.seed,
                   ref_noise=args.ref_noise, modal=args.modal is not None, n_modes=args.n_modes,
                   freq_noise_pct=args.freq_noise, progress=say,
-                  frf_band=_band(args.frf_band))
+                  frf_band=args.frf_band)
     out(lab.text(lab.write(args.output, args.modal)))
     return 0
 
@@ -79,8 +84,9 @@ def _add_compare(p: argparse.ArgumentParser) -> None:
                    "its columns) or a universal file (mode shapes or FRFs)")
     _add_validation_common(p)
     add_measured_pose_args(p, tcp_node=True)
-    p.add_argument("--noise", type=float, default=15.0, help="tracker noise [µm] (no sigma column)")
-    p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%] (modal)")
+    p.add_argument("--noise", type=_TRACKER_UM, default=15.0,
+                   help="tracker noise [µm] (no sigma column)")
+    p.add_argument("--freq-noise", type=_PERCENT, default=0.5, help="frequency noise [%%] (modal)")
     p.add_argument("-o", "--output", default=None, help="report folder (CSV, PNG)")
 
 
@@ -102,7 +108,8 @@ def _run_compare(args) -> int:
 def _add_diagnose(p: argparse.ArgumentParser) -> None:
     p.add_argument("data", help="static measurement CSV")
     _add_validation_common(p)
-    p.add_argument("--noise", type=float, default=15.0, help="tracker noise [µm] (no sigma column)")
+    p.add_argument("--noise", type=_TRACKER_UM, default=15.0,
+                   help="tracker noise [µm] (no sigma column)")
     p.add_argument("--apply", action="store_true", help="write a robot TOML with the accepted "
                    "effects and fitted parameters (-o)")
     p.add_argument("-o", "--output", default=None, help="robot TOML for --apply")
@@ -115,8 +122,8 @@ def _add_diagnose(p: argparse.ArgumentParser) -> None:
     p.add_argument("--modal", default=None, help="measured natural frequencies (CSV or "
                    "universal file; they join the fits, paired with model modes in every "
                    "fit; add --flexible for the link-flexibility candidate)")
-    p.add_argument("--freq-noise", type=float, default=0.5, help="frequency noise [%%]")
-    p.add_argument("--shape-noise", type=float, default=2.0, help="scatter of a measured "
+    p.add_argument("--freq-noise", type=_PERCENT, default=0.5, help="frequency noise [%%]")
+    p.add_argument("--shape-noise", type=_PERCENT, default=2.0, help="scatter of a measured "
                    "shape entry [%% of the shape's largest entry] (--modal with shapes: "
                    "modes paired by MAC, shapes join the fits)")
     add_measured_pose_args(p)

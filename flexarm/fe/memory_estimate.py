@@ -28,6 +28,7 @@ import scipy.sparse as sp
 
 from .errors import FlexarmError
 from .mesh import TetMesh
+from .quantities import Quantity, env_number
 
 __all__ = [
     "InsufficientMemoryError",
@@ -41,6 +42,9 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 GB = 1024.0**3
+#: ``FLEXARM_MEMORY_GB``: a bare number is GB (1024**3 bytes, as :data:`GB`); the value
+#: returned is bytes.
+_MEMORY_CAP = Quantity("memory", "GB", 0, 1e6, open_low=True, result="B")
 #: Bytes per factor entry: the float64 value plus PARDISO's supernodal indices, fitted
 #: (with the terms below) to the whole measured peak of CB reductions of Tet10 bars since
 #: the full matrices are freed before the factor is made: estimate / measured 1.38 at 29k
@@ -176,9 +180,9 @@ def available_memory() -> float:
     >>> available_memory() > 0
     True
     """
-    cap = os.environ.get("FLEXARM_MEMORY_GB")
-    if cap:
-        return float(cap) * GB
+    cap = env_number("FLEXARM_MEMORY_GB", _MEMORY_CAP)
+    if cap is not None:
+        return cap
     found = []
     try:
         with open("/proc/meminfo") as f:

@@ -50,8 +50,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..fe.quantities import Quantity
+
 __all__ = ["Effect", "parse_effect", "KINDS", "NONLINEAR", "STORED", "TOOL_PARAMS",
-           "TOOL_INDEX",
+           "TOOL_INDEX", "TYPED",
            "LOWER_BOUNDS", "lower_bound"]
 
 #: Effects that make a joint law nonlinear (the robot file's ``[nonlinear]`` table).
@@ -89,8 +91,45 @@ def lower_bound(kind: str, name: str) -> float:
     return LOWER_BOUNDS.get((kind, name), -np.inf)
 
 
-_UNITS = {"": 1.0, "rad": 1.0, "mrad": 1e-3, "urad": 1e-6, "nm": 1.0, "knm": 1e3,
-          "nm/rad": 1.0, "deg": np.pi / 180, "kg": 1.0, "m": 1.0, "mm": 1e-3, "cm": 1e-2}
+def _q(kind: str, unit: str, low: float, high: float, **kw) -> Quantity:
+    return Quantity(kind, unit, low, high, **kw)
+
+
+_ANGLE = {"bare": False, "result": "rad"}  # an angle's unit is never guessed
+_STIFF = ("torsional stiffness", "Nm/rad")
+#: (kind, key) -> (what the value is, how it is read) of every typed value of an effect;
+#: key ``j`` is the value given with the joint (``backlash:j2=0.1mrad``).  The ranges hold
+#: every effect a robot can plausibly show and keep the signs that make physical sense.
+TYPED = {
+    ("stiffness", "j"): ("torsion stiffness factor", _q("ratio", "", 0, 1e3, open_low=True)),
+    ("backlash", "j"): ("backlash width", _q("angle", "mrad", 0, 100, open_low=True, **_ANGLE)),
+    ("hardening", "j"): ("hardening ratio K1/K2", _q("ratio", "", 0, 1, open_low=True)),
+    ("hardening", "t"): ("hardening threshold", _q("moment", "Nm", 0, 1e6, open_low=True)),
+    ("hysteresis", "j"): ("hysteresis lost motion",
+                          _q("angle", "mrad", 0, 100, open_low=True, **_ANGLE)),
+    ("hysteresis", "r"): ("hysteresis radius", _q("moment", "Nm", 0, 1e6, open_low=True)),
+    ("tilt", "j"): ("tilt stiffness", _q(*_STIFF, 0, 1e13, open_low=True)),
+    ("base", "k"): ("foundation tilt stiffness", _q(*_STIFF, 0, 1e13, open_low=True)),
+    ("links", "c"): ("link compliance factor", _q("ratio", "", 0, 100)),
+    **{("wrist", k): (f"wrist correlation {k}", _q("ratio", "", -1, 1, open_low=True,
+                                                      open_high=True))
+       for k in ("c45", "c46", "c56")},
+    **{("tool", k): (f"tool compliance {k}",
+                     _q("compliance", "m/N", 0 if k[1] == k[2] else -1e-3, 1e-3))
+       for k in TOOL_PARAMS},
+    ("balancer", "j"): ("balancer stiffness kc", _q(*_STIFF, -1e10, 1e10)),
+    ("balancer", "s"): ("balancer stiffness ks", _q(*_STIFF, -1e10, 1e10)),
+    **{("frame", k): (f"frame rotation {k}", _q("angle", "deg", -45, 45, **_ANGLE))
+       for k in ("rx", "ry", "rz")},
+    ("frame", "scale"): ("frame scale", _q("ratio", "", -0.5, 0.5)),
+    **{("foundation", f"k{a}"): (f"foundation stiffness k{a}", _q(*_STIFF, 0, 1e13))
+       for a in "xy"},
+    ("mass", "j"): ("added mass", _q("mass", "kg", 0, 1e4, open_low=True)),
+    ("loadcell", "s"): ("load cell scale", _q("ratio", "", -0.5, 0.5)),
+    **{("reflector", k): (f"reflector offset {k}",
+                          _q("length", "mm", -2000, 2000, bare=False, result="m"))
+       for k in ("ox", "oy", "oz")},
+}
 
 
 @dataclass(frozen=True)
@@ -150,22 +189,19 @@ class Effect:
                                            for k, v in d.get("params", {}).items()))
 
 
-def _value(text: str) -> float:
-    m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([A-Za-z/]*)\s*", text)
-    if not m or m.group(2).lower() not in _UNITS:
-        raise ValueError(f"cannot read value '{text}' (number with unit among "
-                         f"{sorted(u for u in _UNITS if u)})")
-    return float(m.group(1)) * _UNITS[m.group(2).lower()]
-
-
-def _compliance(text: str) -> float:
+def _compliance(k: float) -> float:
     """A compliance [rad/(N m)] from a stiffness [N m/rad]; 0 (rigid) for 0."""
-    k = _value(text)
     return 0.0 if k == 0 else 1.0 / k
 
 
 def parse_effect(spec: str, n_joints: int = 6) -> Effect:
     """Effect from its command-line form (see the module docstring).
+
+    Every value is read by :mod:`flexarm.fe.quantities` with the quantity and range of
+    :data:`TYPED`: angles and lengths need a unit (``0.1mrad``, ``30mm``), other values
+    are read in the SI unit of the table above when bare (``t=400`` is 400 N m), and a
+    value of the wrong sign or outside its plausible range is refused.  Every message
+    starts ``effect '<spec>':``.
 
     Examples
     --------
@@ -176,54 +212,63 @@ def parse_effect(spec: str, n_joints: int = 6) -> Effect:
         raise ValueError(f"effect '{spec}': expected KIND:KEY=VALUE[,KEY=VALUE]")
     kind, rest = spec.split(":", 1)
     kind = kind.strip().lower()
+    if kind not in KINDS:
+        raise ValueError(f"effect '{spec}': unknown kind '{kind}' (known: {', '.join(KINDS)})")
     items = {}
     for part in rest.split(","):
         if "=" not in part:
             raise ValueError(f"effect '{spec}': '{part}' is not KEY=VALUE")
         k, v = part.split("=", 1)
         items[k.strip().lower()] = v.strip()
-    joint, amount = None, None
+    joint = None
     for k in list(items):
         if re.fullmatch(r"[jl]\d+", k):
             joint = int(k[1:]) - 1
             if not 0 <= joint < n_joints:
                 raise ValueError(f"effect '{spec}': joint {joint + 1} outside 1..{n_joints}")
-            amount = _value(items.pop(k))
+            items["j"] = items.pop(k)
     needs_joint = kind in ("stiffness", "backlash", "hardening", "hysteresis", "tilt",
                            "balancer", "mass")
     if needs_joint and joint is None:
         raise ValueError(f"effect '{spec}': name the joint, e.g. {kind}:j2=...")
+
+    def value(key: str, default: float = 0.0) -> float:
+        """The typed value of ``key`` (``default`` [SI] when not given), checked."""
+        if key not in items:
+            return default
+        name, quantity = TYPED[(kind, key)]
+        try:
+            return quantity.parse(items[key], name)
+        except ValueError as exc:
+            raise ValueError(f"effect '{spec}': {exc}") from None
+
     if kind == "stiffness":
-        return Effect(kind, joint, (("scale", 1.0 / amount),))
+        return Effect(kind, joint, (("scale", 1.0 / value("j")),))
     if kind == "backlash":
-        return Effect(kind, joint, (("width", amount),))
+        return Effect(kind, joint, (("width", value("j")),))
     if kind == "hysteresis":
-        return Effect(kind, joint, (("lost", amount), ("radius", _value(items.get("r", "300")))))
-    if kind in ("hardening", "tilt"):
-        return Effect(kind, joint, (("ratio" if kind == "hardening" else "stiffness", amount),)
-                      + ((("threshold", _value(items.get("t", "400"))),)
-                         if kind == "hardening" else ()))
+        return Effect(kind, joint, (("lost", value("j")), ("radius", value("r", 300.0))))
+    if kind == "hardening":
+        return Effect(kind, joint, (("ratio", value("j")), ("threshold", value("t", 400.0))))
+    if kind == "tilt":
+        return Effect(kind, joint, (("stiffness", value("j")),))
     if kind == "base":
-        return Effect(kind, None, (("stiffness", _value(items.get("k", "2e7"))),))
+        return Effect(kind, None, (("stiffness", value("k", 2e7)),))
     if kind == "links":
-        return Effect(kind, None, (("compliance", _value(items.get("c", "1"))),))
+        return Effect(kind, None, (("compliance", value("c", 1.0)),))
     if kind == "wrist":
-        return Effect(kind, None, tuple((f"rho{k[1:]}", _value(v)) for k, v in items.items()
+        return Effect(kind, None, tuple((f"rho{k[1:]}", value(k)) for k in items
                                         if k in ("c45", "c46", "c56")))
     if kind == "tool":
-        return Effect(kind, None, tuple((k, _value(items.get(k, "0"))) for k in TOOL_PARAMS))
+        return Effect(kind, None, tuple((k, value(k)) for k in TOOL_PARAMS))
     if kind == "balancer":
-        return Effect(kind, joint, (("kc", amount), ("ks", _value(items.get("s", "0")))))
+        return Effect(kind, joint, (("kc", value("j")), ("ks", value("s"))))
     if kind == "frame":
-        return Effect(kind, None, tuple((k, _value(items.get(k, "0")))
-                                        for k in ("rx", "ry", "rz", "scale")))
+        return Effect(kind, None, tuple((k, value(k)) for k in ("rx", "ry", "rz", "scale")))
     if kind == "foundation":
-        return Effect(kind, None, tuple((f"c{a}", _compliance(items.get(f"k{a}", "0")))
-                                        for a in "xy"))
+        return Effect(kind, None, tuple((f"c{a}", _compliance(value(f"k{a}"))) for a in "xy"))
     if kind == "mass":
-        return Effect(kind, joint, (("mass", amount),))
+        return Effect(kind, joint, (("mass", value("j")),))
     if kind == "loadcell":
-        return Effect(kind, None, (("scale", _value(items.get("s", "0"))),))
-    if kind == "reflector":
-        return Effect(kind, None, tuple((k, _value(items.get(k, "0"))) for k in ("ox", "oy", "oz")))
-    raise ValueError(f"unknown effect kind '{kind}' (known: {', '.join(KINDS)})")
+        return Effect(kind, None, (("scale", value("s")),))
+    return Effect(kind, None, tuple((k, value(k)) for k in ("ox", "oy", "oz")))  # reflector

@@ -41,7 +41,7 @@ def test_modes_beyond_the_model_say_so_in_one_line(capsys):
     cap = capsys.readouterr()
     assert "warning" not in cap.err and f"... {n - 3} more modes" in cap.out
     assert main(["modes", "--mass", "surface", "--pose", "P1", "-n", "0"]) == 2
-    assert capsys.readouterr().err.strip().endswith("--n-modes: list at least 1 mode, got 0")
+    assert capsys.readouterr().err.strip().endswith("-n/--n-modes 0: outside 1..100000")
 
 
 def test_modes_without_n_warns_of_nothing(capsys):

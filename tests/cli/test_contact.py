@@ -68,7 +68,7 @@ def test_chatter_prints_the_job_result(capsys, demo_robot):
 
 def test_bad_circle_options_are_one_line_errors(capsys):
     assert main(["circle", "--loads", "0,lots"]) == 2
-    assert "--loads must be comma-separated numbers" in capsys.readouterr().err
+    assert "--loads lots: not a number" in capsys.readouterr().err
     assert main(["circle", "--effect", "backlash:j9=1mrad"]) == 2
     assert "joint 9 outside 1..6" in capsys.readouterr().err
 

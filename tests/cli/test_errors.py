@@ -122,5 +122,5 @@ def test_mesh_negative_size(tmp_path, capsys):
     write_surface(stl, bar_surface(0.4, 0.05, 0.05))
     assert main(["mesh", str(stl), "--size", "-1", "-o", str(tmp_path / "x.vtu")]) == 2
     assert _error_line(capsys) == (
-        "flexarm mesh: error: --size must be a positive edge length in metres, got -1.0"
+        "flexarm mesh: error: --size -1: must be > 0 and <= 10 m"
     )

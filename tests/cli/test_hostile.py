@@ -25,8 +25,9 @@ DEMO = demo_robot_path()
 STATIC = example_path("static")
 #: Peak memory [MB] a refused request may add (pytetwild alone would take gigabytes).
 MEMORY_CAP_MB = 300
-#: Seconds a refused request may take.
-TIME_CAP_S = 20
+#: Seconds a refused request may take: a runaway (meshing at an absurd edge) runs for many
+#: minutes, so the cap is generous for a busy machine.
+TIME_CAP_S = 60
 
 
 @pytest.fixture(autouse=True)
@@ -374,7 +375,7 @@ _mesh_case("mesh-units-m-on-millimetres", (400.0, 50.0, 50.0), ["--size", "0.01"
 _mesh_case("mesh-units-unknown", (0.1, 0.1, 0.1), ["--units", "furlong", "--size", "0.01"],
            "furlong")
 case("mesh-size-negative", lambda t: ["mesh", str(box_stl(t)), "--size", "-1", "-o",
-                                      str(t / "out.vtu")], "--size must be a positive",
+                                      str(t / "out.vtu")], "--size -1: must be > 0",
      absent=("out.vtu",))
 case("mesh-garbage-stl", lambda t: ["mesh", str(_write(t / "g.stl", b"\x00\x01 not an stl" * 9)),
                                     "--size", "0.01", "-o", str(t / "out.vtu")], r"g\.stl",
@@ -407,6 +408,9 @@ case("reduce-mtx-onto-other-folder", lambda t: [
 case("modal-mesh-garbage", lambda t: ["modal", str(_write(t / "m.vtu", b"<VTKFile garbage"))],
      r"m\.vtu")
 case("modal-mesh-missing", lambda t: ["modal", str(t / "none.vtu")], r"none\.vtu")
+
+# Numbers typed on the command line: one module of cases, registered with case() above.
+from . import hostile_numbers  # noqa: E402, F401
 
 
 def _last_error(err: str, command: str) -> str:
@@ -607,20 +611,34 @@ def test_vectorised_column_parse_is_bit_for_bit_the_exact_parser(unit):
     assert _reals(["1", ""], factor) is None and _reals(["1", "\u0661"], factor) is None
 
 
-def test_hundred_thousand_static_rows_read_in_seconds(tmp_path):
+def test_twenty_thousand_static_rows_are_read_column_by_column(tmp_path, monkeypatch):
+    """Every real column of a large clean file goes through the vectorised parser, none
+    falls back to the cell-by-cell one (17 s for 1e5 rows before; the time itself is
+    ``benchmarks/io.py``'s, not a test's)."""
     import numpy as np
 
     from flexarm.validation import read_measurements
 
     head = [ln for ln in STATIC.read_text().splitlines()
             if ln.startswith("#") or ln.startswith("series")]
-    d = np.random.default_rng(0).normal(size=(100_000, 3)) * 0.05
+    d = np.random.default_rng(0).normal(size=(20_000, 3)) * 0.05
     d[::10] = 0.0  # the reference reading of each series
     rows = [f"s{i // 10}, {i % 10}, 0, 52, -19, 12, -15, -11, 0, {20 * (i % 10)}, 0, "
             f"{a:.4f}, {b:.4f}, {c:.4f}, 0.015" for i, (a, b, c) in enumerate(d)]
     path = tmp_path / "big.csv"
     path.write_text("\n".join(head + rows) + "\n")
-    t0 = time.perf_counter()
+    from flexarm.validation.data.formats import _table
+
+    fell_back = []
+
+    def counted(texts, factor):
+        values = vectorised(texts, factor)
+        if values is None:
+            fell_back.append(len(texts))
+        return values
+
+    vectorised = _table.parse_decimal_column
+    monkeypatch.setattr(_table, "parse_decimal_column", counted)
     data = read_measurements(path)
-    assert time.perf_counter() - t0 < 8.0  # 17 s before the columns were vectorised
-    assert data.disp.shape == (100_000, 3) and data.disp[5, 1] == float(f"{d[5, 1]:.4f}e-3")
+    assert fell_back == []
+    assert data.disp.shape == (20_000, 3) and data.disp[5, 1] == float(f"{d[5, 1]:.4f}e-3")

@@ -91,7 +91,7 @@ def test_cli_compare_prints_the_api_text(tmp_path, capsys):
 def test_cli_validation_errors_are_one_line(tmp_path, capsys):
     static = tmp_path / "s.csv"
     assert main(["lab", "--noise", "15parsec", "-o", str(static)]) == 2
-    assert "noise '15parsec': unknown length unit 'parsec'" in capsys.readouterr().err
+    assert "--noise 15parsec: unknown length unit 'parsec'" in capsys.readouterr().err
     assert main(["lab", "--poses", "P1", "--loads", "0:100:100", "--dirs", "z",
                  "-o", str(static)]) == 0
     assert main(["diagnose", str(static), "--apply"]) == 2

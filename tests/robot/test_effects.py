@@ -58,10 +58,10 @@ def test_defaults_of_base_and_links():
     ("backlash:j0=1mrad", "effect 'backlash:j0=1mrad': joint 0 outside 1..6"),
     ("tilt:k=1e7", "effect 'tilt:k=1e7': name the joint, e.g. tilt:j2=..."),
     ("stiffness:c=2", "effect 'stiffness:c=2': name the joint, e.g. stiffness:j2=..."),
-    ("backlash:j2=1parsec", "cannot read value '1parsec' (number with unit among "
-                            "['cm', 'deg', 'kg', 'knm', 'm', 'mm', 'mrad', 'nm', 'nm/rad', "
-                            "'rad', 'urad'])"),
-    ("wobble:j2=1", "unknown effect kind 'wobble' (known: " + ", ".join(KINDS) + ")"),
+    ("backlash:j2=1parsec", "effect 'backlash:j2=1parsec': backlash width 1parsec: unknown "
+                            "angle unit 'parsec' (accepted: deg, rad, mrad, urad)"),
+    ("wobble:j2=1", "effect 'wobble:j2=1': unknown kind 'wobble' (known: "
+                    + ", ".join(KINDS) + ")"),
 ])
 def test_errors(spec, message):
     with pytest.raises(ValueError, match=exact(message)):

@@ -12,19 +12,27 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...fe.quantities import Quantity, parse_levels
+
 __all__ = ["LabPlan", "parse_dirs", "parse_loads"]
 
 _AXES = {"x": 0, "y": 1, "z": 2}
 
 
-def parse_loads(text: str) -> np.ndarray:
-    """Load levels [N] from ``"0:800:100"`` (start:stop:step, inclusive) or ``"0,200,400"``."""
-    if ":" in text:
-        a, b, c = (float(v) for v in text.split(":"))
-        if c <= 0 or b < a:
-            raise ValueError(f"loads '{text}': need start <= stop and step > 0")
-        return np.arange(a, b + c / 2, c)
-    return np.array([float(v) for v in text.split(",")])
+#: A load level [N] (a bare number is newtons; ``0.8kN`` with a unit).
+LOAD_LEVEL = Quantity("force", "N", 0, 1e6)
+
+
+def parse_loads(text: str, what: str = "loads") -> np.ndarray:
+    """Load levels [N] from ``"0:800:100"`` (start:stop:step, inclusive) or ``"0,200,400"``,
+    each finite and in 0..1e6 N, at most 1000 of them.
+
+    Examples
+    --------
+    >>> parse_loads("0:800:400").tolist(), parse_loads("0,0.2kN").tolist()
+    ([0.0, 400.0, 800.0], [0.0, 200.0])
+    """
+    return parse_levels(text, LOAD_LEVEL, what)
 
 
 def parse_dirs(text: str) -> list[tuple[str, np.ndarray]]:

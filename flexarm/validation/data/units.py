@@ -10,17 +10,18 @@ double nearest to 1.5e-3 (the same double as ``float("0.0015")``), and
 :func:`format_values` writes the shortest text that reads back to the same double.
 So reading a written file gives bit-identical arrays.  The degree factor is the
 double ``math.pi / 180``, so ``"170"`` deg reads as exactly ``np.deg2rad(170)``.
+The unit tables are those of every typed number, :mod:`flexarm.fe.quantities`.
 """
 
 from __future__ import annotations
 
 import math
-import re
 from decimal import Context, Decimal
 from fractions import Fraction
 
 import numpy as np
 
+from ...fe.quantities import QUANTITIES, Quantity, accepted_units, si_unit, unit_factor
 from ...fe.typing import ArrayLike, FloatArray
 
 __all__ = [
@@ -35,58 +36,7 @@ __all__ = [
     "parse_quantity",
 ]
 
-#: quantity -> {unit symbol as written canonically: size of one unit in SI, exact}
-QUANTITIES: dict[str, dict[str, Fraction]] = {
-    "length": {"m": Fraction(1), "mm": Fraction(1, 10**3), "um": Fraction(1, 10**6),
-               "cm": Fraction(1, 10**2), "in": Fraction(254, 10**4)},
-    "force": {"N": Fraction(1), "kN": Fraction(10**3)},
-    "angle": {"deg": Fraction(math.pi / 180), "rad": Fraction(1),
-              "mrad": Fraction(1, 10**3), "urad": Fraction(1, 10**6)},
-    "moment": {"Nm": Fraction(1), "kNm": Fraction(10**3)},
-    "frequency": {"Hz": Fraction(1), "kHz": Fraction(10**3)},
-    "receptance": {"m_per_N": Fraction(1), "mm_per_N": Fraction(1, 10**3),
-                   "um_per_N": Fraction(1, 10**6)},
-}
-
-_MICRO = ("\u00b5", "\u03bc")  # micro sign and Greek mu, both read as "u"
-_LOOKUP = {q: {sym.lower(): sym for sym in units} for q, units in QUANTITIES.items()}
 _DIGITS = 17  # significant digits that always identify a double
-_QUANTITY = re.compile(r"([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)(?:\s*([^\W\d_]\S*))?")
-
-
-def accepted_units(quantity: str) -> list[str]:
-    """Unit symbols accepted for ``quantity``, canonical spelling.
-
-    Examples
-    --------
-    >>> accepted_units("force")
-    ['N', 'kN']
-    """
-    return list(QUANTITIES[quantity])
-
-
-def unit_factor(quantity: str, unit: str) -> tuple[str, Fraction] | None:
-    """Canonical symbol and exact SI size of ``unit``, or ``None`` if not accepted.
-
-    Parameters
-    ----------
-    quantity : str
-        A key of :data:`QUANTITIES`.
-    unit : str
-        The suffix as written (case-insensitive; ``µm`` is ``um``).
-
-    Examples
-    --------
-    >>> unit_factor("length", "UM")
-    ('um', Fraction(1, 1000000))
-    >>> unit_factor("length", "ft") is None
-    True
-    """
-    key = unit.lower()
-    for mu in _MICRO:
-        key = key.replace(mu, "u")
-    symbol = _LOOKUP[quantity].get(key)
-    return None if symbol is None else (symbol, QUANTITIES[quantity][symbol])
 
 
 def si_factor(quantity: str, unit: str) -> float:
@@ -128,18 +78,7 @@ def parse_quantity(text: str | float, quantity: str = "length", what: str | None
     """
     if not isinstance(text, str):
         return float(text)
-    m = _QUANTITY.fullmatch(text.strip())
-    if m is None:
-        raise ValueError(f"{what or quantity} '{text}': expected a number with an optional "
-                         f"unit ({', '.join(accepted_units(quantity))})")
-    number, unit = m.groups()
-    if not unit:
-        return float(number)
-    found = unit_factor(quantity, unit)
-    if found is None:
-        raise ValueError(f"{what or quantity} '{text}': unknown {quantity} unit '{unit}' "
-                         f"(accepted: {', '.join(accepted_units(quantity))})")
-    return float(parse_values([number], found[1])[0])
+    return Quantity(quantity, si_unit(quantity)).parse(text, what or quantity)
 
 
 def split_column(name: str) -> tuple[str, str | None]:

@@ -110,9 +110,10 @@ def test_parse_quantity_is_one_rounding_like_a_column():
 
 
 @pytest.mark.parametrize(("text", "message"), [
-    ("15parsec", "noise '15parsec': unknown length unit 'parsec' (accepted: m, mm, um, cm, in)"),
-    ("um", "noise 'um': expected a number with an optional unit (m, mm, um, cm, in)"),
-    ("1.2.3um", "noise '1.2.3um': expected a number"),
+    ("15parsec", "noise 15parsec: unknown length unit 'parsec' (accepted: m, mm, um, cm, in)"),
+    ("um", "noise um: not a number (expected e.g. 1.5m; units: m, mm, um, cm, in)"),
+    ("1.2.3um", "noise 1.2.3um: not a number"),
+    ("nan", "noise nan: not a finite number"),
 ])
 def test_parse_quantity_errors_name_the_value(text, message):
     with pytest.raises(ValueError, match=re.escape(message)):
