@@ -15,8 +15,8 @@ import numpy as np
 from ..fe.cache import cache_key, cached
 from ..fe.files import file_digest
 from ..fe.mass_properties import MassProperties, mass_properties
-from ..fe.units import LENGTH_UNITS
 from ..robot.description import Link, Robot
+from ..robot.link_checks import check_link_mass, link_surface, naming_link
 from .bodies import combine_mass_properties, point_mass_properties, rigid_body
 from .system import ArmModel
 
@@ -30,23 +30,26 @@ METHODS = ("tets", "surface")
 def _mesh_mass_properties(link: Link, method: str, mesh_size: float,
                           mesher: str = "tetwild") -> MassProperties:
     """Mass properties of a link's CAD solid: volume integrals over its (cached) tetrahedra,
-    or the closed-surface integrals of the CAD (cached by the file's bytes)."""
+    or the closed-surface integrals of the CAD (cached by the file's bytes).  Either way
+    the CAD is read as ``flexarm mesh`` reads it
+    (:func:`~flexarm.robot.link_checks.link_surface`): an open, non-manifold or empty
+    surface is refused, naming the link."""
     if method == "tets":
         from .build import link_mesh
 
-        return mass_properties(link_mesh(link, mesh_size, mesher=mesher), link.material.rho)
-    key = cache_key("mass-properties", file_digest(link.mesh), link.units, link.material.rho)
+        with naming_link(link):
+            mesh = link_mesh(link, mesh_size, mesher=mesher)
+        return mass_properties(mesh, link.material.rho)
+    # "checked": entries of the unchecked reader (trimesh's own) are not reused
+    key = cache_key("mass-properties", "checked", file_digest(link.mesh), link.units,
+                    link.material.rho)
     d = cached("mass-properties", key, lambda: _surface_mass_properties(link)).value
     return MassProperties(d["mass"], np.array(d["center_of_mass"]), np.array(d["inertia"]))
 
 
 def _surface_mass_properties(link: Link) -> dict:
-    import trimesh
-
     log.info("mass properties of %s (CAD surface)", link.name)
-    surface = trimesh.load(link.mesh, force="mesh")
-    surface.apply_scale(LENGTH_UNITS[link.units])
-    tm = surface.mass_properties
+    tm = link_surface(link).mass_properties
     rho = link.material.rho
     return {"mass": rho * float(tm.volume), "center_of_mass": np.asarray(tm.center_mass).tolist(),
             "inertia": (rho * np.asarray(tm.inertia)).tolist()}
@@ -75,9 +78,11 @@ def link_mass_properties(link: Link, method: str = "surface", mesh_size: float |
         raise ValueError("link mass properties from tets need the mesh size [m]")
     parts = [] if link.mesh is None else [_mesh_mass_properties(link, method, mesh_size,
                                                                  mesher)]
+    solid = parts[0].mass if parts else None
     parts += [point_mass_properties(m.mass, m.position, m.inertia) for m in link.lumped]
     if not parts:
         raise ValueError(f"links.{link.name}: no mesh and no lumped masses (a massless link)")
+    check_link_mass(link, sum(p.mass for p in parts), solid)
     return combine_mass_properties(parts)
 
 

@@ -16,7 +16,7 @@ from ..fe.mass_properties import MassProperties
 from ..fe.notebook import figure, names
 from ..fe.typing import FloatArray, IntArray
 from .couplings import rigid_transport
-from .tolerances import tol
+from .matrix_checks import check_matrices
 
 __all__ = [
     "FORMAT_VERSION",
@@ -268,7 +268,10 @@ def from_arrays(d: dict, source: str) -> Superelement:
     """Build and check a :class:`Superelement` read from ``source`` (file name for errors).
 
     Raises :class:`ReadError` naming ``source`` on a wrong version, missing fields, bad
-    shapes, asymmetric or indefinite matrices.
+    shapes, or matrices no free link has
+    (:func:`~flexarm.reduction.matrix_checks.check_matrices`: non-finite, asymmetric, M
+    not positive definite, K indefinite or without exactly six rigid-body modes, a mass
+    other than the file's).
     """
     version = d.get("version")
     if version is None:
@@ -302,20 +305,14 @@ def from_arrays(d: dict, source: str) -> Superelement:
                         f"match K of shape {K.shape}")
     n_if = len(kw["interface_names"])
     shapes = {"interface_positions": (n_if, 3), "interface_frames": (n_if, 3, 3),
-              "center_of_mass": (3,), "inertia": (3, 3)}
+              "center_of_mass": (3,), "inertia": (3, 3),
+              "node_positions": (len(kw["node_positions"]), 3)}
     for key, shape in shapes.items():
         if kw[key].shape != shape:
             raise ReadError(f"{source}: {key} must have shape {shape}, got {kw[key].shape}")
     if "T" in kw and (kw["T"].ndim != 2 or kw["T"].shape[1] != K.shape[0]):
         raise ReadError(f"{source}: recovery matrix T must have {K.shape[0]} columns, "
                         f"got shape {kw['T'].shape}")
-    for name in ("K", "M"):
-        A = kw[name]
-        scale = max(float(np.abs(A).max()), np.finfo(float).tiny)
-        asym = float(np.abs(A - A.T).max()) / scale
-        if asym > tol.file_symmetry:
-            raise ReadError(f"{source}: {name} is not symmetric (relative asymmetry {asym:.1e})")
-    ev = np.linalg.eigvalsh(K)
-    if ev[0] < -tol.file_psd * max(ev[-1], np.finfo(float).tiny):
-        raise ReadError(f"{source}: K is not positive semi-definite (eigenvalue {ev[0]:.3e})")
+    rigid = reduced_rigid_modes(kw["node_positions"], kw["dofs_per_node"], K.shape[0])
+    check_matrices(K, M, rigid, kw["mass"], source)
     return Superelement(**kw)

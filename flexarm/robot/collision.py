@@ -44,11 +44,19 @@ def convex_hull(link) -> tuple[FloatArray, np.ndarray]:
 
     def compute() -> dict:
         import trimesh
+        from scipy.spatial import QhullError
 
+        from ..fe.errors import MeshError
         from ..fe.units import LENGTH_UNITS
 
         mesh = trimesh.load(link.mesh, force="mesh")
-        hull = trimesh.convex.convex_hull(np.asarray(mesh.vertices) * LENGTH_UNITS[link.units])
+        try:
+            hull = trimesh.convex.convex_hull(np.asarray(mesh.vertices)
+                                              * LENGTH_UNITS[link.units])
+        except QhullError:
+            raise MeshError(f"links.{link.name}.mesh: {link.mesh}: the surface encloses zero "
+                            f"volume (its {len(mesh.vertices)} points lie in a plane or on a "
+                            "line)") from None
         return {"vertices": hull.vertices.tolist(), "faces": hull.faces.tolist()}
 
     d = cached("convex-hulls", cache_key("convex-hull", file_digest(link.mesh), link.units),

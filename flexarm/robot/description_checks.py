@@ -10,6 +10,8 @@ import numpy as np
 
 from ..fe.typing import FloatArray
 from ..fe.units import LENGTH_UNITS
+from .link_checks import check_link_density
+from .tolerances import tol
 
 __all__ = ["validate"]
 
@@ -28,10 +30,10 @@ def _vec(value, n: int, key: str) -> FloatArray:
 
 def validate(robot) -> None:
     """Raise ``ValueError`` naming key and value for anything inconsistent."""
-    from ..meshes import MESHERS
+    from ..meshes import MESHER_SETTINGS
 
-    if robot.options.mesher not in MESHERS:
-        raise ValueError(f"model.mesher must be one of {', '.join(MESHERS)}, "
+    if robot.options.mesher not in MESHER_SETTINGS:
+        raise ValueError(f"model.mesher must be one of {', '.join(MESHER_SETTINGS)}, "
                          f"got '{robot.options.mesher}'")
     _validate_options(robot.options)
     names = [lk.name for lk in robot.links]
@@ -43,6 +45,8 @@ def validate(robot) -> None:
     for lk in robot.links:
         _validate_link(lk)
     _validate_joints(robot.joints, names)
+    _vec(robot.tool.xyz, 3, "tool.xyz")
+    _vec([math.degrees(float(v)) for v in robot.tool.rpy], 3, "tool.rpy_deg")
     if robot.tool.link is not None and robot.tool.link not in names:
         raise ValueError(f"tool.link: unknown link '{robot.tool.link}'")
     _validate_base_and_wrist(robot)
@@ -76,10 +80,14 @@ def _validate_link(lk) -> None:
                          f"(use {'|'.join(LENGTH_UNITS)})")
     if lk.mesh is not None and not Path(lk.mesh).is_file():
         raise ValueError(f"links.{lk.name}.mesh: file not found: '{lk.mesh}'")
+    check_link_density(lk)
     for m in lk.lumped:
         if not m.mass >= 0:
             raise ValueError(f"links.{lk.name}.lumped.{m.name}.mass must be >= 0 kg, "
                              f"got {m.mass}")
+        if not m.mass <= tol.lumped_mass_max:
+            raise ValueError(f"links.{lk.name}.lumped.{m.name}.mass: {m.mass:g} kg is not a "
+                             f"plausible lumped mass (at most {tol.lumped_mass_max:g} kg)")
     for rname, reg in lk.regions.items():
         key = f"links.{lk.name}.regions.{rname}"
         if abs(np.linalg.norm(reg.axis) - 1) > _UNIT_TOL:
@@ -107,6 +115,7 @@ def _validate_joints(joints, names: list[str]) -> None:
             raise ValueError(f"{key}.parent '{jt.parent}' must come before its child")
         seen.add(jt.child)
         _vec(jt.origin, 3, f"{key}.origin")
+        _vec([math.degrees(float(v)) for v in jt.rpy], 3, f"{key}.rpy_deg")
         if abs(np.linalg.norm(_vec(jt.axis, 3, f"{key}.axis")) - 1) > _UNIT_TOL:
             raise ValueError(f"{key}.axis must be a unit vector, got {list(jt.axis)}")
         if not (math.isfinite(jt.lower) and math.isfinite(jt.upper)):
@@ -122,6 +131,8 @@ def _validate_joints(joints, names: list[str]) -> None:
 def _validate_base_and_wrist(robot) -> None:
     if robot.base.kind not in ("clamped", "spring"):
         raise ValueError(f"base.support must be clamped|spring, got '{robot.base.kind}'")
+    if not 0 <= robot.base.damping_ratio < 1:
+        raise ValueError(f"base.damping_ratio must be in [0, 1), got {robot.base.damping_ratio}")
     if robot.base.kind == "spring":
         K = np.asarray(robot.base.stiffness, dtype=float)
         if K.shape != (6, 6) or not np.allclose(K, K.T) or np.linalg.eigvalsh(K).min() <= 0:

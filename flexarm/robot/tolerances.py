@@ -33,6 +33,20 @@ class Tolerances:
     #: Bearing seats: other surface a face seat's cylinder may take inside its rim, as a
     #: share [-] of the seat's own surface (sample points; more: a side wall, shrink it).
     seat_foreign_area: float = 0.15
+    #: Plausible density of a link's CAD solid [kg/m^3]: below, a foam or a slipped
+    #: unit; above, denser than any metal.  Hollow castings meshed as solid hulls with the
+    #: datasheet mass (``with_total_mass``) land between ~300 and the metal's.
+    density_min: float = 100.0
+    density_max: float = 25000.0
+    #: Heaviest plausible lumped mass (motor, gearbox, balancer) [kg].
+    lumped_mass_max: float = 1e4
+    #: Heaviest plausible link (CAD solid and lumped masses) [kg]: the base of the largest
+    #: industrial robots weighs a few tonnes.
+    link_mass_max: float = 5e4
+    #: Plausible range of (largest CAD extent) / (the robot's reach: the sum of its joint
+    #: offsets) for a link that carries no joint (the flange): 0.02..0.06 over the demo
+    #: arm, the IRB 4600, the UR10 and the M-20iA; a wrong unit moves it by 25..1000.
+    leaf_size_ratio: tuple[float, float] = (2e-3, 10.0)
 
 
 tol = Tolerances()

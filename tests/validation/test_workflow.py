@@ -175,9 +175,12 @@ def test_angles_outside_the_robots_limits_name_file_line_and_column(tmp_path, de
     header = next(i for i, line in enumerate(text) if line.startswith("series,"))
     cols = [c.strip() for c in text[header].split(",")]
     first = next(i for i in range(header + 1, len(text)) if not text[i].startswith("#"))
-    row = text[first].split(",")
-    row[cols.index("q2_deg")] = " 160"
-    text[first] = ",".join(row)
+    series = text[first].split(",")[0]
+    for i in range(first, len(text)):  # the whole series: a series holds one pose
+        row = text[i].split(",")
+        if row[0] == series:
+            row[cols.index("q2_deg")] = " 160"
+            text[i] = ",".join(row)
     bad = tmp_path / "bad.csv"
     bad.write_text("\n".join(text) + "\n")
     read_measurements(bad)  # plausible angles: readable without a robot

@@ -4,7 +4,9 @@ A wrong ``units`` scales a link's CAD by 1000 (mm read as m), 39 (inch) or 100 (
 its mass, inertia and stiffness change by powers of that factor, and every analysis
 still runs.  The joints do not scale with it, so the CAD's size over the distance to the
 farthest joint the link carries gives the mistake away: over the IRB 4600 and the demo
-arm the ratio lies between 0.8 and 3.6; with a wrong unit it leaves ``[0.1, 100]``.
+arm the ratio lies between 0.8 and 3.6; with a wrong unit it leaves ``[0.1, 100]``.  A
+link that carries no joint (the flange) is held against the robot's reach instead (the
+sum of its joint offsets, :attr:`~flexarm.robot.tolerances.Tolerances.leaf_size_ratio`).
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ import numpy as np
 
 from ...fe.units import LENGTH_UNITS
 from ..description import Robot
+from ..tolerances import tol
 
 __all__ = ["check_link_units", "SIZE_RATIO"]
 
@@ -54,11 +57,14 @@ def check_link_units(robot: Robot) -> None:
     ValueError: links.frame.units: the CAD is 0.0146 m across with units='in' but carries \
 joint_2 at 0.175 m: is the unit of meshes/frame.stl right (m, mm, cm, in)?
     """
-    lo, hi = SIZE_RATIO
+    arm_reach = sum(float(np.linalg.norm(j.origin)) for j in robot.joints)
     for lk in robot.links:
         reach = [(float(np.linalg.norm(j.origin)), j.name) for j in robot.joints
                  if j.parent == lk.name]
-        if lk.mesh is None or not reach or max(reach)[0] <= 0:
+        leaf = not reach  # it carries nothing, so the whole arm is the yardstick
+        lo, hi = tol.leaf_size_ratio if leaf else SIZE_RATIO
+        reach = [(arm_reach, "")] if leaf else reach
+        if lk.mesh is None or max(reach)[0] <= 0:
             continue
         extent = _extent(lk.mesh)
         if extent is None:
@@ -67,6 +73,9 @@ joint_2 at 0.175 m: is the unit of meshes/frame.stl right (m, mm, cm, in)?
         distance, joint = max(reach)
         if not lo <= size / distance <= hi:
             shown = "/".join(lk.mesh.parts[-2:])
+            carries = (f"the robot reaches {distance:.3g} m (a link without a child joint is "
+                       f"{lo:g} to {hi:g} times that)" if leaf else
+                       f"carries {joint} at {distance:.3g} m")
             raise ValueError(f"links.{lk.name}.units: the CAD is {size:.3g} m across with "
-                             f"units={lk.units!r} but carries {joint} at {distance:.3g} m: "
-                             f"is the unit of {shown} right ({', '.join(LENGTH_UNITS)})?")
+                             f"units={lk.units!r} but {carries}: is the unit of {shown} right "
+                             f"({', '.join(LENGTH_UNITS)})?")

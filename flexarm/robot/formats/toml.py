@@ -63,6 +63,8 @@ def _material(value, key: str) -> Material:
                             str(value.get("name", "custom")))
         except KeyError as exc:
             raise ValueError(f"{key} needs E, nu and rho, missing {exc}") from None
+        except ValueError as exc:  # Material's own check: say which link
+            raise ValueError(f"{key}: {exc}") from None
     try:
         return material_from_string(str(value))
     except ValueError:
@@ -171,7 +173,7 @@ def _joint_model(m: dict, key: str) -> JointModel:
     placeholder = m.get("placeholder", False)
     if not isinstance(placeholder, bool):
         raise ValueError(f"{key}.placeholder must be true or false, got {placeholder!r}")
-    return JointModel(
+    values = dict(
         torsion=_stiff(m["torsion"], f"{key}.torsion"),
         tilt=_stiff(m.get("tilt", "rigid"), f"{key}.tilt"),
         radial=_stiff(m.get("radial", "rigid"), f"{key}.radial"),
@@ -181,6 +183,10 @@ def _joint_model(m: dict, key: str) -> JointModel:
         tilt2=_stiff(m["tilt2"], f"{key}.tilt2") if "tilt2" in m else None,
         source="placeholder" if placeholder else "given",
     )
+    try:
+        return JointModel(**values)
+    except ValueError as exc:  # "joint damping_ratio must ...": say which joint
+        raise ValueError(f"{key}.{str(exc).removeprefix('joint ')}") from None
 
 
 def from_dict(data: dict, folder: Path, source: Path | None = None) -> Robot:

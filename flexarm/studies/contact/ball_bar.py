@@ -39,7 +39,7 @@ from ...robot.paths import fit_circle, fit_sphere, sample_procedure
 
 __all__ = ["StaticSolver", "linear_solver", "CircleSetup", "circle_setup", "rapid_circle",
            "default_pivot", "CirclePrediction", "predict_circle", "load_point_compliance",
-           "weak_directions", "measured_deviation"]
+           "weak_directions", "measured_deviation", "circle_offsets"]
 
 log = logging.getLogger(__name__)
 
@@ -309,6 +309,23 @@ def predict_circle(arm: ArmModel, setup: CircleSetup, loads: ArrayLike, pull: bo
     dev = np.einsum("nij,knj->kni", A, u)
     name = getattr(solve, "__name__", type(solve).__name__)
     return CirclePrediction(setup, F, bool(pull), dev, name)
+
+
+def circle_offsets(setup: CircleSetup, points: ArrayLike) -> FloatArray:
+    """(m,) distance [m] of each point (m, 3) [m] from the programmed circle of ``setup``
+    (its fitted centre, normal and radius).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> s = SimpleNamespace(centre=np.zeros(3), normal=np.array([0.0, 0, 1]), radius=0.1)
+    >>> circle_offsets(s, [[0.1, 0, 0], [0.0, 0.13, 0.04]]).round(6).tolist()
+    [0.0, 0.05]
+    """
+    d = np.asarray(points, dtype=float).reshape(-1, 3) - setup.centre
+    h = d @ setup.normal
+    r = np.linalg.norm(d - h[:, None] * setup.normal, axis=1)
+    return np.hypot(r - setup.radius, h)
 
 
 def measured_deviation(setup: CircleSetup, points: ArrayLike, force: ArrayLike):

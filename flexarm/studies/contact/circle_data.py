@@ -41,7 +41,7 @@ __all__ = ["static_circle_readings", "synthetic_static_circle", "write_circle_cs
 log = logging.getLogger(__name__)
 
 
-def static_circle_readings(setup: CircleSetup, chain, data) -> tuple[FloatArray, FloatArray]:
+def static_circle_readings(setup: CircleSetup, chain, data, rows: bool = False) -> tuple:
     """Absolute readings and load levels of a circle run stored in the static schema.
 
     Parameters
@@ -53,6 +53,8 @@ def static_circle_readings(setup: CircleSetup, chain, data) -> tuple[FloatArray,
     data : StaticData
         Rows with ``series``, ``q`` (m, 6) [rad], ``force`` (m, 3) [N] on the load point
         and ``disp`` (m, 3) [m] relative to the series' first row.
+    rows : bool
+        Also return the kept rows' indices into ``data``.
 
     Returns
     -------
@@ -60,6 +62,8 @@ def static_circle_readings(setup: CircleSetup, chain, data) -> tuple[FloatArray,
         ``FK(q) + d`` of the kept rows [m].
     force : (r,) float
         The load level of each kept row's series [N].
+    kept : (r,) int
+        With ``rows``: the rows of ``data`` they come from.
 
     Examples
     --------
@@ -90,6 +94,8 @@ def static_circle_readings(setup: CircleSetup, chain, data) -> tuple[FloatArray,
     nominal = tcp_frame(replace(chain, tool=np.asarray(setup.ik.tool, float)), q)[:, :3, 3]
     log.info("static circle data: %d rows, %d series, levels %s N", len(q), len(np.unique(ref)),
              np.unique(level).tolist())
+    if rows:
+        return (nominal + disp)[keep], level[keep], np.flatnonzero(keep)
     return (nominal + disp)[keep], level[keep]
 
 

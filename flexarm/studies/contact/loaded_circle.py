@@ -23,9 +23,11 @@ from ...assembly.effects import apply_effects
 from ...fe.typing import ArrayLike, FloatArray
 from ...robot.formats.rapid import read_rapid
 from ...validation import PathData, StaticData, read_measurements
+from ...validation.tolerances import tol as data_tol
 from .ball_bar import (
     CirclePrediction,
     CircleSetup,
+    circle_offsets,
     measured_deviation,
     predict_circle,
     rapid_circle,
@@ -124,14 +126,38 @@ class CircleResult:
 
 
 def _measured(setup: CircleSetup, chain, measured):
-    """(angle, bar, normal, force) of a path or static-schema file (or its data)."""
-    data = read_measurements(measured) if isinstance(measured, str | PathLike) else measured
+    """(angle, bar, normal, force) of a path or static-schema file (or its data), whose
+    readings must lie near the programmed circle (:func:`_check_on_path`)."""
+    is_file = isinstance(measured, str | PathLike)
+    data = read_measurements(measured) if is_file else measured
+    source = str(measured) if is_file else "measured circle"
     if isinstance(data, PathData):
+        _check_on_path(setup, data.points, source, lambda k: f"step {data.steps[k]}")
         return measured_deviation(setup, data.points, data.force)
     if isinstance(data, StaticData):
-        return measured_deviation(setup, *static_circle_readings(setup, chain, data))
+        points, force, rows = static_circle_readings(setup, chain, data, rows=True)
+        _check_on_path(setup, points, source, lambda k: (
+            f"series '{data.series[rows[k]]}', step {data.steps[rows[k]]}"))
+        return measured_deviation(setup, points, force)
     raise ValueError(f"measured circle: got {type(data).__name__}; give a path CSV (step, x_mm, "
                      "y_mm, z_mm, f_N) or a static CSV (series, step, q1_deg.., fx_N.., dx_mm..)")
+
+
+def _check_on_path(setup: CircleSetup, points, source: str, where) -> None:
+    """Refuse readings farther than ``path_max_offset`` from the programmed circle,
+    naming the farthest (``where(k)``) and its distance: a run of another circle, or a
+    typo, would otherwise be overlaid as a deviation."""
+    offsets = circle_offsets(setup, points)
+    k = int(np.argmax(offsets)) if len(offsets) else 0
+    if len(offsets) and not offsets[k] <= data_tol.path_max_offset:
+        p = np.asarray(points[k]) * 1e3
+        c = setup.centre * 1e3
+        raise ValueError(
+            f"{source}, {where(k)}: the reading ({p[0]:.1f}, {p[1]:.1f}, {p[2]:.1f}) mm lies "
+            f"{offsets[k] * 1e3:.1f} mm from the programmed circle {setup.name} (centre "
+            f"({c[0]:.1f}, {c[1]:.1f}, {c[2]:.1f}) mm, radius {setup.radius * 1e3:.1f} mm; at "
+            f"most {data_tol.path_max_offset * 1e3:g} mm): measured on another path, or a "
+            "typo?")
 
 
 def run_circle(robot, effects: Sequence = (), models: Sequence[str] = ("emodel",),

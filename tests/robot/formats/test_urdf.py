@@ -466,7 +466,7 @@ def test_irb4600_imports_without_warnings(tmp_path, meshes, suffix):
 
 
 @pytest.mark.skipif(not IRB_URDF.is_file(), reason="shared IRB 4600 data not present")
-@pytest.mark.parametrize("meshes", ["collision", "visual"])
+@pytest.mark.parametrize("meshes", ["collision", pytest.param("visual", marks=pytest.mark.slow)])
 def test_cli_irb4600_import_prints_no_warnings(tmp_path, capsys, meshes):
     from flexarm.cli import main
 
@@ -488,7 +488,8 @@ def test_cli_irb4600_import_prints_no_warnings(tmp_path, capsys, meshes):
     assert lines[3] == "tool: tool0 on link_6, xyz [0, 0, 0] m, rpy [0, 90, 0] deg"
     assert lines[-2].startswith("placeholder stiffness (a URDF has none) on joint_1, joint_2, "
                                 "joint_3, joint_4, joint_5, joint_6: ")
-    cad = "1791.7" if meshes == "collision" else "1253.6"  # the visual meshes are no hulls
+    # the visual meshes are no hulls; their small holes are filled, as for meshing
+    cad = "1791.7" if meshes == "collision" else "1253.5"
     assert lines[-1].startswith(f"placeholder size rule: {cad} kg (CAD), reach 2.05 m")
     assert (tmp_path / "irb_meshes").exists() == (meshes == "visual")
     assert robot_toml.read(out).joints[0].model.is_placeholder

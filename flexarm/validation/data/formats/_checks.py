@@ -76,14 +76,20 @@ def check_limits(table: Table, q: FloatArray, limits: ArrayLike | None) -> None:
     _joint_mismatch(table, bad, message)
 
 
-def check_same_pose(table: Table, poses: np.ndarray, q: FloatArray) -> None:
-    """Every row of a pose has the joint angles of the pose's first row."""
+def check_same_pose(table: Table, poses: np.ndarray, q: FloatArray, what: str = "pose",
+                    rule=lambda i, j, first: "one pose, one set of angles",
+                    exempt: np.ndarray | None = None) -> None:
+    """Every row of a pose (or a series: ``what``) has the joint angles of its first row;
+    rows where ``exempt`` (n,) is True are not checked.  ``rule(row, joint, first_row)``
+    gives the parenthesis that ends the message."""
     _, first, inverse = np.unique(poses, return_index=True, return_inverse=True)
     origin = first[inverse]
     bad = np.argwhere(q != q[origin])
+    if exempt is not None:
+        bad = bad[~exempt[bad[:, 0]]]
     _joint_mismatch(table, bad, lambda i, j: (
-        f"pose '{poses[i]}' has other joint angles here than on line "
-        f"{table.lines[origin[i]]} (one pose, one set of angles)"))
+        f"{what} '{poses[i]}' has other joint angles here than on line "
+        f"{table.lines[origin[i]]} ({rule(i, j, int(origin[i]))})"))
 
 
 def check_unique(table: Table, keys: list[np.ndarray], base: str, describe) -> None:

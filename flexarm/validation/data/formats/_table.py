@@ -328,6 +328,14 @@ def read_table(path: PathType, vocabulary: dict[str, Field]) -> Table:
             f"{source}, line {header_line}: the fields are separated by {separator!r}; "
             f"flexarm reads comma-separated files with '.' decimals (export as CSV with ',' "
             f"separators)", source, header_line)
+    numbers_found = [n for n in names if _REAL.fullmatch(n)]
+    if numbers_found:  # a data row where the header belongs: say so, not "duplicate 0"
+        shown = ", ".join(numbers_found[:3]) + (", ..." if len(numbers_found) > 3 else "")
+        raise MeasurementFileError(
+            f"{source}, line {header_line}: no header row: the first row that is not a "
+            f"comment holds numbers ({shown}) where the column names belong; add the "
+            "header line (e.g. 'series, step, q1_deg, ...' for static series; see "
+            "flexarm.validation for every kind)", source, header_line)
     columns, unknown = _header(names, header_line, source, vocabulary)
     if len(lines) == 1:
         raise MeasurementFileError(f"{source}, line {header_line}: no data rows after the "

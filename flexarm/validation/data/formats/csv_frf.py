@@ -4,7 +4,9 @@ im_m_per_N``.
 ``input`` (force) and ``output`` (displacement) are TCP directions ``x``, ``y`` or
 ``z`` of the base frame.  Checked on reading: every row of a pose has the same joint
 angles, ``freq`` ≥ 0, each (pose, input, output, freq) appears once, joint angles
-inside ``limits`` when given.
+inside ``limits`` when given.  Comparing needs at least
+:attr:`~flexarm.validation.tolerances.Tolerances.frf_min_lines` lines per (pose, input,
+output) (:func:`check_lines`).
 """
 
 from __future__ import annotations
@@ -14,11 +16,22 @@ from pathlib import Path
 import numpy as np
 
 from ....fe.typing import ArrayLike, PathType
+from ...tolerances import tol
 from ..measurements import FrfData
 from ._checks import check_limits, check_positive, check_same_pose, check_unique
-from ._table import Field, Schema, Table, joints, read_table, table_frame, write_table
+from ._table import (
+    Field,
+    MeasurementFileError,
+    Schema,
+    Table,
+    joints,
+    read_table,
+    table_frame,
+    write_table,
+)
 
-__all__ = ["SCHEMA", "DATA", "from_table", "read", "write", "values", "to_dataframe"]
+__all__ = ["SCHEMA", "DATA", "from_table", "read", "write", "values", "to_dataframe",
+           "check_lines"]
 
 SCHEMA = Schema("frf", (
     Field("pose", "label"), *joints(), Field("input", "direction"),
@@ -42,6 +55,44 @@ def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = Fa
     check_limits(table, q, limits)
     return FrfData(poses=poses, q=q, inputs=v["input"], outputs=v["output"], freq_hz=freq,
                    receptance=v["re"] + 1j * v["im"])
+
+
+def check_lines(data: FrfData, source: PathType | None = None) -> None:
+    """Every (pose, input, output) FRF of ``data`` has at least ``tol.frf_min_lines``
+    frequency lines, as comparing peaks needs (reading does not ask it).
+
+    Raises :class:`MeasurementFileError` naming ``source`` and, for a CSV file, the line
+    of the short FRF's first row.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> one = FrfData(poses=["c1"], q=np.zeros((1, 6)), inputs=["y"], outputs=["y"],
+    ...               freq_hz=[10.0], receptance=[1e-6 + 0j])
+    >>> check_lines(one, "shaker.uff")
+    Traceback (most recent call last):
+    ...
+    flexarm.validation.data.formats._lines.MeasurementFileError: shaker.uff: the FRF of pose \
+'c1', input y, output y has 1 frequency line; comparing FRFs needs at least 3 (a peak \
+needs a line on each side)
+    """
+    keys = [data.poses, data.inputs, data.outputs]
+    codes = np.column_stack([np.unique(k, return_inverse=True)[1] for k in keys])
+    _, first, counts = np.unique(codes, axis=0, return_index=True, return_counts=True)
+    short = np.flatnonzero(counts < tol.frf_min_lines)
+    if not short.size:
+        return
+    g = short[np.argmin(first[short])]
+    i, n = int(first[g]), int(counts[g])
+    where, line = ("FRF data" if source is None else str(source)), None
+    if source is not None and Path(source).suffix.lower() == ".csv":
+        table = read_table(source, SCHEMA.vocabulary)  # the error path only: its line
+        line = int(table.lines[i])
+        where = f"{source}, line {line}, column '{table.columns['freq'].name}'"
+    raise MeasurementFileError(
+        f"{where}: the FRF of pose '{keys[0][i]}', input {keys[1][i]}, output {keys[2][i]} "
+        f"has {n} frequency line{'s' if n != 1 else ''}; comparing FRFs needs at least "
+        f"{tol.frf_min_lines} (a peak needs a line on each side)", str(source), line)
 
 
 def read(path: PathType, limits: ArrayLike | None = None) -> FrfData:

@@ -4,7 +4,7 @@ One row per node of the test geometry: the body it is fixed to (``0`` = base, ``
 link ``i``) and its position in that body's link frame ``L_i`` (the URDF link frame
 at zero joint angles).  This is not a measurement kind (nothing is measured in it):
 it maps the nodes of universal files and of mode-shape CSVs onto the arm.  Checked
-on reading: each node once, ``link`` ≥ 0.
+on reading: each node once, ``link`` ≥ 0 (and a body of the arm, given its count).
 """
 
 from __future__ import annotations
@@ -24,8 +24,9 @@ SCHEMA = Schema("points", (Field("node", "int"), Field("link", "int"),
                            *vector("", "length", "mm")), noun="a measurement points table")
 
 
-def read_points(path: PathType) -> Points:
-    """Read a points table.
+def read_points(path: PathType, n_bodies: int | None = None) -> Points:
+    """Read a points table; with ``n_bodies`` (the robot's links, base included) a
+    ``link`` outside ``0 .. n_bodies - 1`` is refused at its line.
 
     Examples
     --------
@@ -39,6 +40,10 @@ def read_points(path: PathType) -> Points:
     v = table.parse(SCHEMA)
     check_unique(table, [v["node"]], "node", lambda i: f"node {v['node'][i]}")
     check_positive(table, v["link"], "link", "link index (0 = base)", strict=False)
+    if n_bodies is not None and np.any(v["link"] >= n_bodies):
+        i = int(np.flatnonzero(v["link"] >= n_bodies)[0])
+        raise table.error(i, "link", f"link {v['link'][i]} does not exist (the arm has "
+                          f"bodies 0..{n_bodies - 1}, 0 = base)")
     return Points(nodes=v["node"], links=v["link"],
                   positions=np.column_stack([v["x"], v["y"], v["z"]]))
 

@@ -13,6 +13,11 @@ Rules, checked on reading:
   displacement is relative to it, so its ``dx, dy, dz`` (and ``rx, ry, rz``) must be
   exactly 0.  A nonzero value means absolute positions or a shifted reference, which
   the analysis would otherwise mistake for an effect;
+- a series holds one pose: its joint angles are those of its first row.  A series
+  whose angles change at most of its steps (more than
+  :attr:`~flexarm.validation.tolerances.Tolerances.moving_series_share`) is a path
+  measured under load (the loaded circle in this schema) and keeps them; one that
+  changes at a few steps only was moved in the middle of a load series, and is refused;
 - ``sigma`` > 0; joint angles inside ``limits`` when given.
 """
 
@@ -23,8 +28,15 @@ from pathlib import Path
 import numpy as np
 
 from ....fe.typing import ArrayLike, PathType
+from ...tolerances import tol
 from ..measurements import StaticData, first_rows
-from ._checks import check_contiguous, check_increasing, check_limits, check_positive
+from ._checks import (
+    check_contiguous,
+    check_increasing,
+    check_limits,
+    check_positive,
+    check_same_pose,
+)
 from ._table import Field, Schema, Table, joints, read_table, table_frame, vector, write_table
 
 __all__ = ["SCHEMA", "DATA", "from_table", "read", "write", "values", "to_dataframe"]
@@ -51,6 +63,10 @@ def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = Fa
     series, steps = v["series"], v["step"]
     check_contiguous(table, series, "series", "series")
     check_increasing(table, series, steps, "series")
+    q = np.column_stack([v[f"q{j}"] for j in range(1, 7)])
+    check_same_pose(table, series, q, "series", lambda i, j, first: (
+        f"{table.text(i, f'q{j + 1}')} instead of {table.text(first, f'q{j + 1}')}: a load "
+        "series holds one pose; was the robot moved?"), _moving(series, q))
     disp, rot = _stack(v, "d"), _stack(v, "r")
     starts = first_rows(series)
     for prefix, what in (("d", "displacement"), ("r", "rotation")):
@@ -64,10 +80,21 @@ def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = Fa
                               f"0, got {table.text(i, base)}")
     if "sigma" in v:
         check_positive(table, v["sigma"], "sigma", "sigma")
-    q = np.column_stack([v[f"q{j}"] for j in range(1, 7)])
     check_limits(table, q, limits)
     return StaticData(series=series, steps=steps, q=q, force=_stack(v, "f"), disp=disp,
                       moment=_stack(v, "m"), rot=rot, sigma=v.get("sigma"))
+
+
+def _moving(series: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """(n,) bool: rows of the series whose joint angles change at more than
+    ``tol.moving_series_share`` of their steps (paths; the rows of a series are
+    contiguous)."""
+    starts = first_rows(series)
+    lengths = np.diff(np.r_[starts, len(series)])
+    changed = np.r_[False, np.any(q[1:] != q[:-1], axis=1)]
+    changed[starts] = False
+    moves = np.add.reduceat(changed.astype(np.int64), starts) if len(starts) else starts
+    return np.repeat(moves > tol.moving_series_share * (lengths - 1), lengths)
 
 
 def read(path: PathType, limits: ArrayLike | None = None) -> StaticData:
