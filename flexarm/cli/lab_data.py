@@ -7,17 +7,18 @@ import shutil
 from pathlib import Path
 
 from ._common import add_measured_pose_args, command, out, wrote
+from ._numbers import band, count, number
 
 
 def _add_ema(p: argparse.ArgumentParser) -> None:
     p.add_argument("frf", help="universal file with FRFs (58 datasets; .uff or .unv)")
     p.add_argument("-o", "--output", required=True,
                    help="modal data with shapes to write: CSV (.csv) or universal file (.uff)")
-    p.add_argument("--band", default=None,
+    p.add_argument("--band", type=band("frequency", "Hz", 0, 1e5), default=None,
                    help="frequency band of the fit [Hz], LO:HI (default: every measured line)")
-    p.add_argument("--max-order", type=int, default=40,
+    p.add_argument("--max-order", type=count(1, 200), default=40,
                    help="highest LSCF order (model orders 2 ... 2x this)")
-    p.add_argument("--min-stable", type=float, default=0.25,
+    p.add_argument("--min-stable", type=number("ratio", "", 0, 1, open_low=True), default=0.25,
                    help="share of the orders at which a pole column must be stable [-]")
     p.add_argument("--robot", default=None, help="robot TOML or URDF whose named poses "
                    "--pose may use (default: the built-in demo arm)")
@@ -27,15 +28,9 @@ def _add_ema(p: argparse.ArgumentParser) -> None:
 @command("ema", "modal parameters (frequency, damping, shapes) from measured FRFs: LSCF + "
          "LSFD, stabilisation diagram, synthesised vs measured FRF", _add_ema)
 def _run_ema(args) -> int:
-    from ..validation.data.formats import registry
     from ..validation.dynamic.ema import run_ema
 
-    lo = hi = None
-    if args.band:
-        try:
-            lo, hi = (float(v) for v in args.band.split(":"))
-        except ValueError:
-            raise ValueError(f"--band '{args.band}': expected LO:HI in Hz, e.g. 2:160") from None
+    lo, hi = args.band or (None, None)
     uff = None
     if args.pose is not None or args.response is not None:
         from ..validation.data.formats import UffOptions
@@ -45,7 +40,7 @@ def _run_ema(args) -> int:
     res = run_ema(args.frf, lo, hi, args.max_order, args.min_stable, uff)
     out(res.text())
     output = Path(args.output)
-    wrote([registry.write(output, res.modal(), comments=(f"flexarm ema {args.frf}",))])
+    wrote([res.write(output, comments=(f"flexarm ema {args.frf}",))])
     wrote(res.write_plots(output.parent / output.stem))
     points = Path(args.frf).with_suffix(".points.csv")  # the lab's points table goes along
     if points.exists() and output.suffix.lower() != ".uff":

@@ -77,6 +77,31 @@ class Tolerances:
     max_outlier_share: float = 0.1
     #: Uncertainty multiplier of a discounted reading (outlier) [-].
     discount_factor: float = 1e3
+    #: Measurement files: a static series whose joint angles change at more than this share
+    #: of its steps is a path measured under load (the loaded circle in the static schema);
+    #: one that changes at fewer was moved in the middle of a load series, and is refused.
+    moving_series_share: float = 0.5
+    #: Measurement files: frequency lines an FRF needs at least (a peak needs a line on
+    #: each side of it).
+    frf_min_lines: int = 3
+    #: Measurement files: a coherence may exceed 1 by this much (single-precision
+    #: round-off of the analyzer) and is then taken as 1.
+    coherence_round_off: float = 1e-6
+    #: FRF comparison: a coherence is capped at 1 minus this when it turns into the weight
+    #: gamma^2 / (1 - gamma^2) of a line, so that no line takes all the weight.
+    coherence_floor: float = 1e-4
+    #: FRF comparison: least coherence of a line where a peak is looked for.
+    peak_coherence: float = 0.5
+    #: Test geometry: largest distance [m] of a node from the arm's stick figure (a sensor
+    #: on a link's surface sits within a casting's radius of its axis line).
+    max_point_distance: float = 0.25
+    #: Test geometry: two links this close to a node [m] are a tie (a node on a joint
+    #: axis), decided in chain order.
+    point_tie: float = 1e-9
+    #: Measured path runs: largest distance [m] of a reading from the programmed path
+    #: (deflections under a bar force and the tracker's registration stay within a few mm;
+    #: a 10x typo or another circle of the module lies decimetres away).
+    path_max_offset: float = 0.01
 
 
 tol = Tolerances()

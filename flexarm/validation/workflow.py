@@ -18,6 +18,7 @@ from ..fe.typing import PathType
 from ..robot.description import Robot
 from ..robot.formats import write as write_robot_file
 from .data.formats import UffOptions, read_measurements
+from .data.formats.csv_frf import check_lines
 from .data.measurements import FrfData, ModalData, PathData, StaticData
 from .data.shape_data import ShapeData
 from .diagnosis.history import robot_with_effects, write_history
@@ -89,6 +90,8 @@ def compare(data: Measurements | PathType, robot: Robot | PathType | None = None
     robot = load(robot)
     uff = UffOptions.at(robot, pose, response, tcp_node)
     data_path, data = (None if isinstance(data, Measurements) else data), _read(data, robot, uff)
+    if isinstance(data, FrfData):  # a peak needs lines around it: no "0.000 %" from one
+        check_lines(data, data_path)
     models = validation_models(robot, options, progress)
     effects = models.effects_with_links()
     if isinstance(data, ShapeData):  # mode shapes: pairing by MAC
@@ -209,7 +212,8 @@ def run_diagnosis(data: StaticData | PathType, robot: Robot | PathType | None = 
     models = validation_models(robot, options, progress)
     shapes = {}
     if isinstance(modal, ShapeData):
-        shapes = dict(points=measurement_points(modal_path, robot),
+        shapes = dict(points=measurement_points(modal_path, robot, modal.nodes,
+                                                (str(modal.poses[0]), modal.q[0])),
                       shape_noise=shape_noise_pct / 100, builds=shape_builds(models, options))
     dg = diagnose(models.arm, data, noise_um * 1e-6, noise_model, poses=robot.poses,
                   modal=modal, flexible=models.flexible, freq_noise=freq_noise_pct / 100,

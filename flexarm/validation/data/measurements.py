@@ -273,6 +273,9 @@ class FrfData(_Posed):
         Frequency [Hz].
     receptance : (n,) complex
         Displacement over force [m/N].
+    coherence : (n,) float or None
+        Ordinary coherence ``gamma^2`` [-] of each line, when measured: weights the
+        comparison (:func:`~flexarm.validation.dynamic.frf_weights.coherence_weight`).
 
     Examples
     --------
@@ -293,6 +296,7 @@ class FrfData(_Posed):
     outputs: np.ndarray
     freq_hz: FloatArray
     receptance: np.ndarray
+    coherence: FloatArray | None = None
 
     def __post_init__(self) -> None:
         n = _labels(self, "poses", self.poses, None)
@@ -305,6 +309,7 @@ class FrfData(_Posed):
                                  f"got {str(getattr(self, name)[bad][0])!r}")
         _array(self, "freq_hz", self.freq_hz, np.float64, (), n)
         _array(self, "receptance", self.receptance, np.complex128, (), n)
+        _array(self, "coherence", self.coherence, np.float64, (), n, optional=True)
 
     @property
     def input_axes(self) -> IntArray:

@@ -7,7 +7,9 @@
 * FRF: the model receptance at every measured line (modal superposition with the
   model's modal damping) and, per pose and input/output pair, the RMS of
   ``log10 |H_meas / H_model|`` and the error of the largest peak's frequency; overlays
-  of magnitude and phase.
+  of magnitude and phase.  Measured coherence, when the data carry it, weights each
+  line of the RMS by ``gamma^2 / (1 - gamma^2)`` and keeps the peak search to lines of
+  good coherence (:mod:`.frf_weights`).
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from ..data.measurements import FrfData, ModalData
 from ..static.compare import write_rows
 from ..static.fit import chi2_band
 from ..tolerances import tol
+from .frf_weights import coherence_weight, trusted_lines, weighted_rms
 from .modal import match_frequencies
 
 __all__ = ["ModalError", "ModalComparison", "FrfError", "FrfComparison", "compare_modal",
@@ -165,9 +168,11 @@ class FrfError:
     input, output : str
         Force input and displacement output axis (``"x"``, ``"y"``, ``"z"``).
     rms_log10_mag : float
-        RMS of ``log10 |H_meas / H_model|`` over the measured lines (dimensionless).
+        RMS of ``log10 |H_meas / H_model|`` over the measured lines (dimensionless),
+        weighted by the coherence when measured.
     peak_meas_hz, peak_model_hz : float
-        Frequency of the largest measured and model ``|H|`` on those lines [Hz].
+        Frequency of the largest measured and model ``|H|`` on those lines (of good
+        coherence, when measured) [Hz].
     peak_error_pct : float
         ``peak_model_hz - peak_meas_hz`` relative to ``peak_meas_hz`` [%].
     """
@@ -200,11 +205,16 @@ class FrfComparison:
     table: tuple[FrfError, ...]
 
     def text(self) -> str:
-        """The error table per pose and input/output pair, as ``compare`` prints it."""
-        return text_table(["pose", "in", "out", "rms_log10|H|", "peak_meas_Hz",
-                           "peak_model_Hz", "peak_err_%"],
-                          [[r.pose, r.input, r.output, r.rms_log10_mag, r.peak_meas_hz,
-                            r.peak_model_hz, r.peak_error_pct] for r in self.table], "{:.3f}")
+        """The error table per pose and input/output pair, as ``compare`` prints it (and
+        a note when the measured coherence weights it)."""
+        table = text_table(["pose", "in", "out", "rms_log10|H|", "peak_meas_Hz",
+                            "peak_model_Hz", "peak_err_%"],
+                           [[r.pose, r.input, r.output, r.rms_log10_mag, r.peak_meas_hz,
+                             r.peak_model_hz, r.peak_error_pct] for r in self.table], "{:.3f}")
+        if self.data.coherence is None:
+            return table
+        return table + ("\nlines weighted by the measured coherence, gamma^2 / (1 - gamma^2); "
+                        f"peaks looked for where gamma^2 >= {tol.peak_coherence:g}")
 
     def write(self, folder) -> list[Path]:
         """:func:`write_frf_report` into ``folder``."""
@@ -236,13 +246,16 @@ def compare_frf(arm: ArmModel, data: FrfData, effects=(),
     table = []
     for key, rows in _groups(data).items():
         meas, pred, f = data.receptance[rows], H[rows], data.freq_hz[rows]
+        g2 = None if data.coherence is None else data.coherence[rows]
         ok = (np.abs(meas) > 0) & (np.abs(pred) > 0)
         lr = np.log10(np.abs(meas[ok]) / np.abs(pred[ok]))
-        fm, fp = f[np.argmax(np.abs(meas))], f[np.argmax(np.abs(pred))]
+        peak = trusted_lines(g2, len(rows))
+        fm = f[peak][np.argmax(np.abs(meas[peak]))]
+        fp = f[peak][np.argmax(np.abs(pred[peak]))]
         pose, io = key.split(":")
         table.append(FrfError(
             pose=pose, input=io[0], output=io[1],
-            rms_log10_mag=float(np.sqrt(np.mean(lr**2))) if lr.size else 0.0,
+            rms_log10_mag=weighted_rms(lr, None if g2 is None else coherence_weight(g2[ok])),
             peak_meas_hz=float(fm), peak_model_hz=float(fp),
             peak_error_pct=float(100 * (fp - fm) / fm) if fm > 0 else 0.0))
     return FrfComparison(data, H, tuple(table))

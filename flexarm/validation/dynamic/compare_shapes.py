@@ -19,6 +19,7 @@ import numpy as np
 from ...assembly.effects import apply_effects
 from ...assembly.linkflex import links_arm, split_links
 from ...assembly.system import ArmModel
+from ...fe.errors import ReadError
 from ...fe.text import text_table
 from ...fe.typing import PathType
 from ..data.formats.csv_points import read_points
@@ -244,15 +245,26 @@ def compare_shapes(arm: ArmModel, data: ShapeData, points: Points, effects=(),
                                                                        strict=True)))
 
 
-def measurement_points(data_path: PathType | None, robot) -> Points:
+def measurement_points(data_path: PathType | None, robot, nodes=None, at=None) -> Points:
     """The points table of a measurement file: ``<stem>.points.csv`` next to it (as
-    ``lab`` writes it), else the robot's default points
-    (:func:`~.shapes.default_points`)."""
-    if data_path is not None:
-        side = Path(data_path).with_suffix(".points.csv")
-        if side.exists():
-            return read_points(side)
-    return default_points(robot)
+    ``lab`` writes it), else, given ``at`` = (pose, q [rad]) of its first pose, the one
+    its universal-file geometry gives (:func:`~.point_geometry.file_points`), else the
+    robot's default points (:func:`~.shapes.default_points`).  A link the robot does not
+    have is refused at its line; with ``nodes`` (the file's), a node the table lacks is
+    refused naming both files."""
+    if data_path is None or not Path(data_path).with_suffix(".points.csv").exists():
+        from .point_geometry import file_points
+
+        found = None if data_path is None or at is None else file_points(data_path, robot, *at)
+        return default_points(robot) if found is None else found
+    side = Path(data_path).with_suffix(".points.csv")
+    points = read_points(side, len(robot.links))
+    missing = [] if nodes is None else np.setdiff1d(np.asarray(nodes, np.int64), points.nodes)
+    if len(missing):
+        raise ReadError(f"{side}: node {missing[0]} of {Path(data_path).name} is not in it "
+                        f"(it has {', '.join(str(n) for n in points.nodes)}): add a row "
+                        "node, link, x_mm, y_mm, z_mm for every node of the file")
+    return points
 
 
 def shape_builds(models, options):
@@ -278,7 +290,9 @@ def compare_with_models(models, options, data: ShapeData,
     (:class:`~.models.ValidationModels`): the points table of ``data_path``
     (:func:`measurement_points`) and the builds of :func:`shape_builds`."""
     label = {"emodel": "E-model", "guyan": "Guyan", "cb": "CB"}.get(options.model, "model")
-    cmp = compare_shapes(models.arm, data, measurement_points(data_path, models.robot),
+    cmp = compare_shapes(models.arm, data, measurement_points(
+                             data_path, models.robot, data.nodes,
+                             (str(data.poses[0]), data.q[0])),
                          models.effects_with_links(), models.flexible,
                          shape_builds(models, options))
     return replace(cmp, label=label)

@@ -13,6 +13,13 @@ the residues of a mode form a rank-one matrix ``phi_out phi_ref^T``: its dominan
 left singular vector is the mode shape, turned real (normal-mode approximation) by
 the rotation that maximises its real part.
 
+Modal mass: sdypy-ema's residues ``A`` are those of ``H = sum_r A_r / (i w - l_r) +
+conj``, so a mass-normalised real shape ``psi`` has ``psi psi^T = 2 i w_d A_r``.  At the
+driving points (an output that is also a reference) this gives ``psi_d^2``, and the unit
+shape ``u`` has the modal mass ``m = u_d^2 / psi_d^2`` (least squares over the driving
+points; 0, not known, without one): ``H = sum_r u u^T / (m_r (w_r^2 - w^2 + 2 i zeta_r
+w_r w))``.
+
 Why a library: LSCF/LSFD is standard and sdypy-ema is its maintained open
 implementation (from pyEMA/OpenModal); only the automatic pole picking (a GUI in
 sdypy-ema) is ours.
@@ -24,6 +31,7 @@ import contextlib
 import io
 import logging
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -122,6 +130,8 @@ class PoseModes:
         Stable poles: order index, pole index, frequency [Hz], damping ratio.
     all_poles : list of (2, p) float
         Frequency [Hz] and damping ratio of every pole per order (the diagram).
+    modal_mass : (k,) float
+        Modal mass of each unit shape (SI; 0 without a driving point).
     """
 
     frf: UffFrf
@@ -133,6 +143,7 @@ class PoseModes:
     synthesised: np.ndarray
     stable: np.ndarray
     all_poles: list
+    modal_mass: np.ndarray | None = None
 
 
 #: Fewest frequency lines in the band that an identification is tried on.
@@ -147,6 +158,20 @@ def _band(frf: UffFrf, f_lo, f_hi):
         raise ValueError(f"pose '{frf.pose}': the band {lo:g}-{hi:g} Hz is not inside the "
                          f"measured lines {freq[0]:g}-{freq[-1]:g} Hz")
     return lo, hi
+
+
+def _modal_masses(R: np.ndarray, shapes: np.ndarray, dofs: list, refs: list,
+                  omega_d: np.ndarray) -> np.ndarray:
+    """(k,) modal mass of unit ``shapes`` (k, m) from residues ``R`` (k, m, n_ref) at the
+    driving points (see the module docstring)."""
+    pairs = [(dofs.index(r), k) for k, r in enumerate(refs) if r in dofs]
+    if not pairs:
+        return np.zeros(len(shapes))
+    o, i = np.array(pairs).T
+    psi2 = (2j * omega_d[:, None] * R[:, o, i]).real  # psi_d^2 per mode and driving point
+    u2 = shapes[:, o] ** 2
+    inv = np.sum(u2 * psi2, axis=1) / np.maximum(np.sum(u2**2, axis=1), np.finfo(float).tiny)
+    return np.where(inv > 0, 1.0 / np.where(inv > 0, inv, 1.0), 0.0)
 
 
 def identify_modes(frf: UffFrf, f_lo: float | None = None, f_hi: float | None = None,
@@ -196,6 +221,8 @@ def identify_modes(frf: UffFrf, f_lo: float | None = None, f_hi: float | None = 
     R[:, [dofs.index(o) for o in outs], [refs.index(i) for i in ins]] = A.T
     U = np.linalg.svd(R)[0][:, :, 0]  # dominant left singular vector per mode
     shapes = np.array([_real_shape(u) for u in U])
+    mass = _modal_masses(R, shapes, dofs, refs,
+                         2 * np.pi * picked[:, 2] * np.sqrt(1 - picked[:, 3] ** 2))
     first = [outs.index(d) for d in dofs]
     # sdypy-ema pads lines from 0 Hz and cuts at the band's top: align by frequency
     synth = np.full(frf.H.shape, np.nan + 0j)
@@ -209,14 +236,31 @@ def identify_modes(frf: UffFrf, f_lo: float | None = None, f_hi: float | None = 
     return PoseModes(frf, picked[:, 2], picked[:, 3], frf.out_nodes[live][first],
                      frf.out_dirs[live][first], shapes, synth, stable,
                      [np.array([f, x]) for f, x in zip(model.pole_freq, model.pole_xi,
-                                                       strict=True)])
+                                                       strict=True)], mass)
 
 
 @dataclass(frozen=True, eq=False)
 class EmaResult:
-    """Modes identified at every pose of a universal file (:func:`run_ema`)."""
+    """Modes identified at every pose of a universal file (:func:`run_ema`), with the
+    file's test geometry (:class:`~flexarm.validation.data.formats.uff_geometry.PoseGeometry`
+    per pose) when it has one."""
 
     poses: tuple
+    geometry: tuple = ()
+
+    def write(self, path: PathType, comments=()) -> Path:
+        """:meth:`modal` as a measurement file; a universal file (``.uff``, ``.unv``) also
+        gets the geometry and each shape's modal mass (:func:`~.uff_write.write_uff`)."""
+        from ..data.formats import registry
+        from ..data.formats.uff import EXTENSIONS
+        from ..data.formats.uff_write import write_uff
+
+        if Path(path).suffix.lower() not in EXTENSIONS:
+            return Path(registry.write(path, self.modal(), comments=comments))
+        mass = np.concatenate([np.zeros(len(pm.freq_hz)) if pm.modal_mass is None
+                               else pm.modal_mass for pm in self.poses])
+        return write_uff(path, self.modal(), geometry=self.geometry, modal_mass=mass,
+                         description=" ".join(map(str, comments)) or "flexarm ema")
 
     def modal(self) -> ShapeData:
         """Frequencies, damping and shapes as measured modal data, on one DOF set for
@@ -272,13 +316,15 @@ def run_ema(path: PathType | list, f_lo: float | None = None, f_hi: float | None
     """Identify modes from the 58 FRFs of a universal file (or a list of
     :class:`UffFrf`), pose by pose (:func:`identify_modes`); ``uff`` says what the file
     does not (the pose it was measured at, what its ordinates are)."""
+    geometry = ()
     if isinstance(path, list | tuple):
         frfs = list(path)
     else:
         uff = uff or UffOptions()
         label, q = uff.pose if uff.pose is not None else (None, None)
-        frfs = list(read_uff(path, label, q, uff.response).frfs)
+        content = read_uff(path, label, q, uff.response)
+        frfs, geometry = list(content.frfs), content.geometry
     if not frfs:
         raise ValueError(f"{path}: no FRFs (58 datasets) to identify modes from")
     return EmaResult(tuple(identify_modes(f, f_lo, f_hi, max_order, min_stable)
-                           for f in frfs))
+                           for f in frfs), geometry)

@@ -32,6 +32,7 @@ from ...fe.typing import ArrayLike, FloatArray
 from ...reduction.couplings import rigid_transport
 from ..data.measurements import DIRECTIONS
 from ..data.shape_data import Points, ShapeData
+from .point_geometry import link_ends
 
 __all__ = ["body_point_map", "point_map", "model_shapes", "model_shape_data", "default_points"]
 
@@ -166,13 +167,9 @@ def default_points(robot) -> Points:
     >>> p.n_points, int(p.nodes[-1])
     (12, 601)
     """
-    chain = robot.chain
     nodes, links, pos = [], [], []
     for i in range(1, len(robot.links)):
-        ends = [np.asarray(jt.origin, float) for j, jt in enumerate(robot.joints)
-                if int(chain.parents[j]) == i]
-        if i == chain.tcp_body:
-            ends.append(np.asarray(chain.tool[:3, 3], float))
+        ends = link_ends(robot, i)
         own = [0.5 * ends[0]] + ends if ends else [np.zeros(3)]
         for k, p in enumerate(own):
             nodes.append(100 * i + k)

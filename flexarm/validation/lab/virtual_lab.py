@@ -24,17 +24,18 @@ from ...assembly.linkflex import links_arm, split_links
 from ...assembly.statics import joint_moments, relative_deflection
 from ...assembly.system import ArmModel
 from ...fe.files import atomic_path
+from ...fe.quantities import Quantity
 from ...fe.typing import ArrayLike, PathType
 from ...robot.description import Robot, pose_from_string
 from ...robot.effects import Effect, parse_effect
 from ..data.formats import write_modal, write_static
 from ..data.formats.csv_points import write_points
 from ..data.formats.uff import EXTENSIONS as UFF_EXTENSIONS
+from ..data.formats.uff_geometry import PoseGeometry, stick_figure
 from ..data.formats.uff_write import write_uff
 from ..data.load_plan import LabPlan, parse_dirs, parse_loads
 from ..data.measurements import ModalData, StaticData
 from ..data.shape_data import Points, ShapeData
-from ..data.units import parse_quantity
 from ..dynamic.compare_shapes import shape_builds
 from ..models import DEFAULT_OPTIONS, ValidationOptions, load, validation_models
 from ..tolerances import tol
@@ -102,6 +103,8 @@ def write_lab(path, data: StaticData, truth: dict) -> tuple[Path, Path]:
 
 #: First comment line of every file the lab writes.
 _COMMENT = "virtual lab data (flexarm lab)"
+#: Tracker noise and reference error [m] (``"15um"`` with a unit; a bare number is metres).
+_NOISE = Quantity("length", "m", 0, 0.01)
 
 
 @dataclass(frozen=True)
@@ -136,8 +139,9 @@ class LabResult:
         With ``modal``: receptances at every point per TCP force, one per pose.
     points : Points or None
         The measurement points (:func:`~flexarm.validation.dynamic.shapes.default_points`).
-    coordinates : (k, 3) float or None
-        The points in the base frame at the first pose [m] (the test geometry).
+    geometry : tuple of PoseGeometry
+        With ``modal``: the test geometry, the points in the base frame at each pose
+        [m] and the stick figure through them.
     """
 
     data: StaticData
@@ -146,7 +150,7 @@ class LabResult:
     shapes: ShapeData | None = None
     frfs: tuple = ()
     points: Points | None = None
-    coordinates: np.ndarray | None = None
+    geometry: tuple = ()
 
     def write(self, path: PathType, modal_path: PathType | None = None) -> LabFiles:
         """The static CSV ``path`` with ``<stem>.truth.json`` next to it and, given
@@ -163,11 +167,13 @@ class LabResult:
         return LabFiles(static, truth, modal, points)
 
     def _write_uff(self, path: Path) -> tuple[Path, Path]:
-        """Mode shapes (55), FRFs (58) and geometry (15) as a universal file, and the
-        points table ``<stem>.points.csv`` next to it."""
+        """Geometry per pose (2411, 82), mode shapes (55, mass-normalised: modal mass 1)
+        and FRFs (58) as a universal file
+        (:mod:`~flexarm.validation.data.formats.uff_write`), and the points table
+        ``<stem>.points.csv`` next to it."""
         if self.shapes is None:
             raise ValueError("this lab run has no mode shapes: run it with modal=True")
-        uff = write_uff(path, self.shapes, self.frfs, self.points.nodes, self.coordinates,
+        uff = write_uff(path, self.shapes, self.frfs, self.geometry, modal_mass=1.0,
                         description=_COMMENT)
         return uff, write_points(path.with_suffix(".points.csv"), self.points,
                                  (_COMMENT, f"measurement points of {path.name}"))
@@ -247,8 +253,8 @@ def run_lab(robot: Robot | PathType | None = None, effects: Sequence[str | Effec
     >>> lab.data.disp.shape, lab.truth["noise_m"], lab.truth["effects"][0]["kind"]
     ((3, 3), 1e-05, 'backlash')
     """
-    noise = parse_quantity(noise, "length", "noise")
-    ref_noise = parse_quantity(ref_noise, "length", "ref-noise")
+    noise = _NOISE.parse(noise, "noise")
+    ref_noise = _NOISE.parse(ref_noise, "ref-noise")
     source = robot.name if isinstance(robot, Robot) else "demo" if robot is None else str(robot)
     robot = load(robot)
     effects = list(robot.effects) + [parse_effect(e, len(robot.joints)) if isinstance(e, str)
@@ -280,14 +286,14 @@ def lab_shapes(arm: ArmModel, robot: Robot, poses: dict, effects, n_modes: int,
                flexible: ArmModel | None = None, builds=None,
                band: tuple | None = None) -> dict:
     """Mode shapes and FRFs of the virtual lab at the robot's default points: keyword
-    arguments ``shapes``, ``frfs``, ``points``, ``coordinates`` of :class:`LabResult`.
+    arguments ``shapes``, ``frfs``, ``points``, ``geometry`` of :class:`LabResult`.
 
     The FRFs are receptances at every point (x, y, z) per force at the TCP along x, y
     and z, from 0.25 Hz in 0.25 Hz steps to 1.2 times the highest mode kept (or over
     ``band`` = (lo, hi) [Hz]), with ``frf_noise`` relative noise per line.  ``flexible``
     and its ``builds`` (for the recovery at the points) serve a link-flexibility effect.
     """
-    from ...robot.kinematics import link_frames
+    from ..dynamic.point_geometry import point_coordinates
     from ..dynamic.shapes import default_points
 
     points = default_points(robot)
@@ -300,7 +306,7 @@ def lab_shapes(arm: ArmModel, robot: Robot, poses: dict, effects, n_modes: int,
     tcp = int(points.nodes[-1])
     frfs = virtual_frfs(arm, poses, points, [(tcp, d) for d in "xyz"], freq, effects,
                         frf_noise, seed, flexible, builds)
-    F = link_frames(robot.chain, np.asarray(next(iter(poses.values())), float))
-    R, t = F[points.links, :3, :3], F[points.links, :3, 3]
-    coords = np.einsum("kij,kj->ki", R, points.positions) + t
-    return {"shapes": shapes, "frfs": tuple(frfs), "points": points, "coordinates": coords}
+    lines = stick_figure(points)
+    geometry = tuple(PoseGeometry(label, points.nodes, point_coordinates(robot, q, points), lines)
+                     for label, q in poses.items())
+    return {"shapes": shapes, "frfs": tuple(frfs), "points": points, "geometry": geometry}

@@ -52,3 +52,30 @@ def test_ema_command_from_the_lab_file(tmp_path):
         assert (tmp_path / "ema" / f"modal.{name}.png").stat().st_size > 10_000
     assert (tmp_path / "ema" / "modal.points.csv").exists()
     assert main(["ema", str(tmp_path / "lab.uff"), "-o", str(out), "--band", "300:400"]) == 2
+
+
+def test_ema_modal_mass_and_geometry_in_its_universal_file(demo, tmp_path):
+    """Noise-free FRFs at P1 in a universal file with its geometry: the modal mass of each
+    unit shape from the driving points equals 1 / |phi|^2 of the model's mass-normalised
+    shape at the same DOFs (first four modes, away from the band's top), and the
+    universal file ema writes carries it and the geometry."""
+    from flexarm.validation.data.formats.uff import read_uff
+    from flexarm.validation.data.formats.uff_geometry import PoseGeometry, stick_figure
+    from flexarm.validation.data.formats.uff_write import write_uff
+    from flexarm.validation.dynamic.point_geometry import point_coordinates
+
+    robot, arm = demo
+    pts = default_points(robot)
+    q = robot.pose("P1")
+    frfs = virtual_frfs(arm, {"P1": q}, pts, [(601, d) for d in "xyz"], FREQ, noise=0.0)
+    geometry = [PoseGeometry("P1", pts.nodes, point_coordinates(robot, q, pts),
+                             stick_figure(pts))]
+    res = run_ema(write_uff(tmp_path / "frf.uff", frfs=frfs, geometry=geometry))
+    pm, = res.poses
+    _, _, phi = model_shapes(arm, pm.frf.q, pts, pm.nodes, pm.dirs, 4)
+    assert np.allclose(pm.modal_mass[:4], 1 / np.sum(phi**2, axis=1), rtol=5e-3)
+    back = read_uff(res.write(tmp_path / "modes.uff"))
+    assert np.allclose(back.modal_mass, pm.modal_mass, rtol=1e-5)
+    g, = back.geometry
+    assert g.pose == "P1" and np.array_equal(g.nodes, pts.nodes)
+    assert np.max(np.abs(g.coordinates - geometry[0].coordinates)) < 1e-15

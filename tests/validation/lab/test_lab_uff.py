@@ -1,5 +1,5 @@
-"""The virtual lab writes a universal file (55 shapes, 58 FRFs, 15 nodes) and a points
-table; ``compare`` reads it back and pairs by MAC."""
+"""The virtual lab writes a universal file (2411 nodes and 82 tracelines per pose, 55
+shapes, 58 FRFs) and a points table; ``compare`` reads it back and pairs by MAC."""
 
 from __future__ import annotations
 
@@ -27,7 +27,8 @@ def test_lab_uff_holds_what_the_lab_made(lab_uff):
     lab, files = lab_uff
     assert files.points == files.modal.with_suffix(".points.csv")
     types = [int(t) for t in pyuff.UFF(str(files.modal)).get_set_types()]
-    assert types[:3] == [151, 164, 15] and types.count(55) == 12
+    assert types[:3] == [151, 164, 2420] and types.count(55) == 12
+    assert types.count(2411) == types.count(82) == 2 and 15 not in types
     assert types.count(58) == sum(len(f.H) for f in lab.frfs) == 2 * 36 * 3
     content = read_uff(files.modal)
     # pyuff writes 55 values with 6 significant digits and 58 with 12; a DOF that is
@@ -43,7 +44,10 @@ def test_lab_uff_holds_what_the_lab_made(lab_uff):
     for got, made in zip(content.frfs, lab.frfs, strict=True):
         assert np.all(np.abs(got.H - made.H) <= 1e-10 * np.abs(made.H))  # zeros stay 0
         assert np.array_equal(got.freq_hz, made.freq_hz)
-    assert np.allclose(content.coordinates, lab.coordinates, rtol=1e-5, atol=1e-6)
+    for got, made in zip(content.geometry, lab.geometry, strict=True):
+        assert got.pose == made.pose and np.array_equal(got.nodes, made.nodes)
+        assert np.allclose(got.coordinates, made.coordinates, rtol=0, atol=1e-15)
+        assert np.array_equal(got.lines, made.lines)
 
 
 def test_compare_pairs_lab_shapes_by_mac(lab_uff, tmp_path):

@@ -6,23 +6,34 @@ Datasets understood:
 - **164** units: the factors that turn file units into SI (``SI = value / factor``,
   as the UFF definition says); a file without one is SI.  They apply to the datasets
   after them.
-- **15** / **2411** nodes: the test geometry, base frame [m].
+- **15** / **2411** nodes and **82** tracelines: the test geometry, base frame [m];
+  a flexarm file has one block of each per pose (:mod:`.uff_geometry`), and a file
+  without a points table gives one through it
+  (:func:`~flexarm.validation.dynamic.point_geometry.points_from_geometry`).
 - **58** FRFs (``func_type`` 4): one response DOF per reference DOF, ordinate
   displacement (8), velocity (11) or acceleration (12) over force (13); turned into
   receptance [m/N] at ``+x, +y, +z`` (a negative UFF direction flips the sign).  An
   ordinate of type unknown (0) or general (1) is taken from its unit label (``m/s^2``,
   ``(1/N)*(m/s²)``: acceleration) or from the caller's ``response``; the 0 Hz line of a
   velocity or acceleration FRF (which an FFT analyzer exports, set to zero) is dropped.
+  A 58 ordinary coherence (function type 6) of the same nodes and axes is kept with
+  its FRF (:attr:`UffFrf.coherence`) and weights the FRF comparison.
 - **55** mode shapes: normal (analysis type 2, real shapes, viscous damping ratio)
   or complex (3, eigenvalue ``-ζω ± iω√(1-ζ²)``); x, y, z per node.  A DOF that is
   exactly zero in every mode of a pose is taken as not measured and dropped.
+- **2414** analysis data: mode shapes as NX writes them, read like 55 sets
+  (:mod:`.uff_modes`); other 2414 results are left alone.  The modal mass of 55 and
+  2414 sets is kept (:attr:`UffContent.modal_mass`).
 
 A pose is not a universal-file notion: flexarm writes ``flexarm pose=<label>
-q_deg=<q1,...,q6>`` into ID line 4 of every 55 and 58 set it writes and reads it
-back; other files get the ``pose`` and ``q`` the caller gives, and without them are
-refused (never read at zero joint angles).  Every error names the file, the dataset
-(1-based, with its type) and the field, and what to give instead.  The writer is
-:mod:`.uff_write`.
+q_deg=<q1,...,q6>`` into ID line 4 of every 55 and 58 set it writes (and, past the
+first pose, ``flexarm nodes+=<offset>`` into ID line 5) and reads it back, node ids less
+the offset; other files get the ``pose`` and ``q`` the caller gives, and without them are refused
+(never read at zero joint angles).  Every error names the file, the dataset (1-based,
+with its type) and the field, and what to give instead.  A file cut short (a
+last dataset without its closing delimiter, which pyuff drops) is refused naming that
+dataset and its pose, and a value pyuff cannot parse is named with its line
+(:mod:`.uff_scan`).  The writer is :mod:`.uff_write`.
 """
 
 from __future__ import annotations
@@ -38,7 +49,10 @@ from ....fe.errors import MissingDependencyError, ReadError
 from ....fe.typing import PathType
 from ..measurements import DIRECTIONS, FrfData
 from ..shape_data import ShapeData
-from .uff_frf import RESPONSES, UffFrf, Where, collect_frfs, frf_of
+from .uff_frf import COHERENCE, RESPONSES, UffFrf, Where, coherence_of, collect_frfs, frf_of
+from .uff_geometry import pose_geometries
+from .uff_modes import is_mode_2414, modal_mass, mode_2414
+from .uff_scan import bad_number, truncation
 
 __all__ = ["EXTENSIONS", "RESPONSES", "UffFrf", "UffContent", "UffOptions", "read_uff", "read"]
 
@@ -46,6 +60,7 @@ log = logging.getLogger(__name__)
 
 EXTENSIONS = (".uff", ".unv")
 _MARK = re.compile(r"flexarm pose=(\S+) q_deg=(\S+)")
+_OFFSET = re.compile(r"flexarm nodes\+=(\d+)")
 _NODES = (15, 2411)
 
 
@@ -98,13 +113,20 @@ class UffContent:
     units : str
         The 164 units description (``"SI"`` without one).
     nodes : (k,) int
-        Node ids of the 15/2411 geometry.
+        Node ids of the 15/2411 geometry, as in the file.
     coordinates : (k, 3) float
         Their coordinates [m].
     frfs : tuple of UffFrf
         One per pose, from the 58 sets.
     shapes : ShapeData or None
-        Mode shapes of the 55 sets.
+        Mode shapes of the 55 and 2414 sets.
+    types : tuple of int
+        Every dataset's type, in file order.
+    geometry : tuple of PoseGeometry
+        The geometry pose by pose, in point ids (one of pose None for a file without
+        flexarm's pose marks).
+    modal_mass : (m,) float or None
+        Modal mass of each row of ``shapes`` (SI; 0 where the file does not give it).
     """
 
     header: dict
@@ -114,19 +136,35 @@ class UffContent:
     frfs: tuple = ()
     shapes: ShapeData | None = None
     types: tuple = field(default=())
+    geometry: tuple = ()
+    modal_mass: np.ndarray | None = None
 
 
-def _pose_of(dset: dict, pose: str | None, q) -> tuple[str | None, np.ndarray | None]:
-    """The set's pose mark, else the caller's pose, else ``(None, None)``."""
+def _pose_of(dset: dict, pose: str | None, q) -> tuple[str | None, np.ndarray | None, int]:
+    """The set's pose mark, else the caller's pose, else ``(None, None)``; and the
+    offset of its node ids (0 without one)."""
     text = " ".join(str(dset.get(f"id{k}", "")) for k in range(1, 6))
     m = _MARK.search(text)
     if m is not None:
         qd = np.array([float(v) for v in m.group(2).split(",")])
-        return m.group(1), np.deg2rad(np.r_[qd, np.zeros(6 - len(qd))])
+        offset = _OFFSET.search(text)
+        return (m.group(1), np.deg2rad(np.r_[qd, np.zeros(6 - len(qd))]),
+                int(offset.group(1)) if offset else 0)
     if q is None:
-        return None, None
+        return None, None, 0
     q = np.asarray(q, float)
-    return (pose or "uff"), np.r_[q, np.zeros(6 - len(q))]
+    return (pose or "uff"), np.r_[q, np.zeros(6 - len(q))], 0
+
+
+def _renumbered(dset: dict, offset: int) -> dict:
+    """The set with its node ids less the pose's offset."""
+    if not offset:
+        return dset
+    out = dict(dset)
+    for name in ("node_nums", "rsp_node", "ref_node"):
+        if name in out:
+            out[name] = np.asarray(out[name], np.int64) - offset
+    return out
 
 
 def _mode(where: Where, i: int, dset: dict) -> tuple[float, float, np.ndarray, np.ndarray]:
@@ -188,8 +226,9 @@ def _read_all(pyuff, name: str, path: Path) -> list:
             try:
                 out.append(uff.read_sets(i))
             except Exception as exc:  # noqa: BLE001
-                raise ReadError(f"{path}, dataset {i + 1} (type {int(t)}): cannot read it "
-                                f"({exc})") from None
+                where = bad_number(Path(name).read_bytes(), i)
+                why = f"{where}" if where else f"cannot read it ({exc})"
+                raise ReadError(f"{path}, dataset {i + 1} (type {int(t)}): {why}") from None
     return out
 
 
@@ -201,6 +240,9 @@ def _sets(path: Path) -> list:
     import tempfile
 
     pyuff = _pyuff()
+    cut = truncation(path.read_bytes()) if path.is_file() else None
+    if cut is not None:
+        raise ReadError(f"{path}: {cut}; export it again")
     try:
         out = _read_all(pyuff, str(path), path)
     except ReadError:
@@ -221,7 +263,7 @@ def _sets(path: Path) -> list:
 
 def read_uff(path: PathType, pose: str | None = None, q=None,
              response: str | None = None) -> UffContent:
-    """Read the 151, 164, 15/2411, 58 and 55 datasets of a universal file.
+    """Read the 151, 164, 15/2411, 82, 58, 55 and 2414 datasets of a universal file.
 
     Parameters
     ----------
@@ -239,12 +281,14 @@ def read_uff(path: PathType, pose: str | None = None, q=None,
     Returns
     -------
     UffContent
-        FRFs as receptance [m/N], shapes, nodes [m], in the base frame.
+        FRFs as receptance [m/N] (with their coherence), shapes and their modal mass,
+        the geometry [m] pose by pose, in the base frame.
     """
     path = Path(path)
     where = Where(path)
     header, units, factors = {}, "SI", (1.0, 1.0)
     nodes, coords, frfs, modes = [], [], [], []
+    traces, coherence, masses, offsets = [], [], [], {}
     sets = _sets(path)
     for i, d in enumerate(sets):
         t = int(d["type"])
@@ -259,13 +303,26 @@ def read_uff(path: PathType, pose: str | None = None, q=None,
         elif t in _NODES:
             nodes.append(np.asarray(d["node_nums"], float).astype(np.int64))
             coords.append(np.column_stack([d["x"], d["y"], d["z"]]) / factors[0])
+        elif t == 82:
+            n = int(d.get("n_nodes", len(d["nodes"])))  # pyuff pads the last line with 0
+            traces.append(np.asarray(d["nodes"], float).astype(np.int64)[:n])
+        elif t == 58 and int(d.get("func_type", -1)) == COHERENCE:
+            label, qq, off = _pose_of(d, pose, q)
+            coherence.append((i, _renumbered(d, off), label, *coherence_of(where, i, d)))
         elif t == 58:
-            label, qq = _pose_of(d, pose, q)
+            label, qq, off = _pose_of(d, pose, q)
             f, H = frf_of(where, i, d, factors[1] / factors[0], response)
-            frfs.append((i, d, label, qq, f, H))
-        elif t == 55:
-            label, qq = _pose_of(d, pose, q)
-            modes.append((i, d, label, qq, *_mode(where, i, d)))
+            frfs.append((i, _renumbered(d, off), label, qq, f, H))
+            offsets.setdefault(label, off)
+        elif t == 55 or (t == 2414 and is_mode_2414(d)):
+            label, qq, off = _pose_of(d, pose, q)
+            d = _renumbered(d, off)
+            modes.append((i, d, label, qq, *(_mode if t == 55 else mode_2414)(where, i, d)))
+            masses.append(modal_mass(d))
+            offsets.setdefault(label, off)
+    if coherence and not frfs:
+        raise where.error(coherence[0][0], 58, "func_type", "coherence, not frequency response "
+                          "functions (type 4): export the FRFs (H1/H2) with it")
     unposed = [it[0] for it in frfs + modes if it[2] is None]
     if unposed:
         more = f" and {len(unposed) - 1} more" if len(unposed) > 1 else ""
@@ -276,8 +333,12 @@ def read_uff(path: PathType, pose: str | None = None, q=None,
     return UffContent(header, units or "SI",
                       np.concatenate(nodes) if nodes else np.zeros(0, np.int64),
                       np.concatenate(coords) if coords else np.zeros((0, 3)),
-                      collect_frfs(where, frfs), _collect_shapes(where, modes),
-                      tuple(int(d["type"]) for d in sets))
+                      collect_frfs(where, frfs, coherence), _collect_shapes(where, modes),
+                      tuple(int(d["type"]) for d in sets),
+                      pose_geometries(np.concatenate(nodes) if nodes else [],
+                                      np.concatenate(coords) if coords else np.zeros((0, 3)),
+                                      traces, offsets),
+                      np.array(masses) if masses else None)
 
 
 def read(path: PathType, limits=None, uff: UffOptions | None = None):
@@ -300,6 +361,8 @@ def read(path: PathType, limits=None, uff: UffOptions | None = None):
         parts = [f.to_frf_data(uff.tcp_node) for f in content.frfs]
     except ValueError as exc:
         raise ReadError(f"{path}: {exc}") from None
+    g2 = [d.coherence for d in parts]
     return FrfData(**{name: np.concatenate([np.asarray(getattr(d, name)) for d in parts])
                       for name in ("poses", "q", "inputs", "outputs", "freq_hz",
-                                   "receptance")})
+                                   "receptance")},
+                   coherence=None if any(g is None for g in g2) else np.concatenate(g2))

@@ -9,9 +9,11 @@ from pathlib import Path
 import numpy as np
 
 from ....fe.errors import ReadError
+from ...tolerances import tol
 from ..measurements import DIRECTIONS, FrfData
 
-__all__ = ["UffFrf", "RESPONSES", "Where", "frf_of", "collect_frfs", "direction"]
+__all__ = ["UffFrf", "RESPONSES", "COHERENCE", "Where", "frf_of", "coherence_of", "collect_frfs",
+           "direction"]
 
 _RESPONSE = {8: 0, 11: 1, 12: 2}  # ordinate type -> power of i*omega that divides it
 #: ``--response`` names of the ordinate types.
@@ -48,6 +50,9 @@ class UffFrf:
         Their directions, ``x``, ``y`` or ``z`` (positive).
     H : (n, nf) complex
         Receptance [m/N].
+    coherence : (n, nf) float or None
+        Ordinary coherence ``gamma^2`` [-] of each FRF at its lines (58 sets of function
+        type 6), when the file has one for every FRF of the pose.
     """
 
     pose: str
@@ -58,6 +63,7 @@ class UffFrf:
     in_nodes: np.ndarray
     in_dirs: np.ndarray
     H: np.ndarray
+    coherence: np.ndarray | None = None
 
     def matrix(self) -> tuple[list[str], list[str], np.ndarray]:
         """Output DOF labels, input DOF labels and (nf, n_out, n_in) receptance [m/N]
@@ -87,7 +93,8 @@ class UffFrf:
         return FrfData(poses=[self.pose] * (nf * k), q=np.tile(self.q, (nf * k, 1)),
                        inputs=np.repeat(self.in_dirs[keep], nf),
                        outputs=np.repeat(self.out_dirs[keep], nf),
-                       freq_hz=np.tile(self.freq_hz, k), receptance=self.H[keep].ravel())
+                       freq_hz=np.tile(self.freq_hz, k), receptance=self.H[keep].ravel(),
+                       coherence=None if self.coherence is None else self.coherence[keep].ravel())
 
 
 def _ordinate(where: Where, i: int, dset: dict, response: str | None) -> int:
@@ -143,20 +150,68 @@ def frf_of(where: Where, i: int, dset: dict, factor: float, response: str | None
     data = np.asarray(dset["data"])
     if not np.iscomplexobj(data):
         raise where.error(i, 58, "ord_data_type", "FRF data must be complex (5 or 6)")
+    for name, values in (("x", freq), ("data", data)):
+        bad = np.flatnonzero(~np.isfinite(values))
+        if bad.size:
+            k = int(bad[0])
+            at = f"line {k + 1}" + (f" ({freq[k]:g} Hz)" if np.isfinite(freq[k]) else "")
+            raise where.error(i, 58, name, f"{len(bad)} value{'s' if len(bad) > 1 else ''} "
+                              f"not finite, the first at frequency {at}: {values[k]}")
     power = _RESPONSE[spec]
     if power and np.any(freq <= 0):  # an analyzer's 0 Hz line: no receptance there
         if np.any(np.diff(freq) <= 0) or np.sum(freq <= 0) > 1:
             raise where.error(i, 58, "x", "lines at or below 0 Hz besides the first: a "
                               "velocity or acceleration FRF has no receptance there")
         freq, data = freq[1:], data[1:]
+    if freq.size < tol.frf_min_lines:
+        raise where.error(i, 58, "x", f"{freq.size} frequency line{'s' if freq.size != 1 else ''}"
+                          f"; an FRF needs at least {tol.frf_min_lines} (a peak needs a line "
+                          "on each side)")
     H = data * factor / (2j * np.pi * np.where(freq > 0, freq, 1.0)) ** power
     _, s_out = direction(where, i, "rsp_dir", dset["rsp_dir"])
     _, s_in = direction(where, i, "ref_dir", dset["ref_dir"])
     return freq, H * s_out * s_in
 
 
-def collect_frfs(where: Where, items: list) -> tuple[UffFrf, ...]:
-    """One :class:`UffFrf` per pose from (index, dset, pose, q, freq, H) items."""
+#: 58 function type of the ordinary coherence.
+COHERENCE = 6
+
+
+def coherence_of(where: Where, i: int, dset: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(freq [Hz], gamma^2 [-]) of a 58 coherence set; values must lie in [0, 1]."""
+    freq, g2 = np.asarray(dset["x"], float), np.asarray(dset["data"])
+    top = 1 + tol.coherence_round_off
+    if np.iscomplexobj(g2) or np.any(~np.isfinite(g2)) or np.any((g2 < 0) | (g2 > top)):
+        raise where.error(i, 58, "data", "a coherence must be real, between 0 and 1: export "
+                          "the ordinary coherence (gamma squared)")
+    return freq, np.minimum(g2.astype(float), 1.0)
+
+
+def _key(d: dict) -> tuple:
+    return (int(d["rsp_node"]), abs(int(d["rsp_dir"])), int(d["ref_node"]),
+            abs(int(d["ref_dir"])))
+
+
+def _coherence(where: Where, mine: list, freq: np.ndarray, found: list) -> np.ndarray | None:
+    """(n, nf) coherence of a pose's FRF items at their lines ``freq`` from the
+    (index, dset, pose, freq, gamma^2) items ``found``; None unless every FRF has one."""
+    by_key = {_key(c[1]): c for c in found}
+    if not found or any(_key(it[1]) not in by_key for it in mine):
+        return None
+    rows = []
+    for it in mine:
+        i, _, _, cf, g2 = by_key[_key(it[1])]
+        k = np.clip(np.searchsorted(cf, freq), 0, len(cf) - 1)
+        if not np.allclose(cf[k], freq, rtol=1e-9, atol=0):
+            raise where.error(i, 58, "x", f"the coherence's lines do not cover those of its "
+                              f"FRF (dataset {it[0] + 1})")
+        rows.append(g2[k])
+    return np.array(rows)
+
+
+def collect_frfs(where: Where, items: list, coherence: list = ()) -> tuple[UffFrf, ...]:
+    """One :class:`UffFrf` per pose from (index, dset, pose, q, freq, H) items, with the
+    coherence of (index, dset, pose, freq, gamma^2) items matched by nodes and axes."""
     out = []
     for label in dict.fromkeys(it[2] for it in items):
         mine = [it for it in items if it[2] == label]
@@ -172,5 +227,6 @@ def collect_frfs(where: Where, items: list) -> tuple[UffFrf, ...]:
             np.array([direction(where, it[0], "rsp_dir", it[1]["rsp_dir"])[0] for it in mine]),
             np.array([int(s["ref_node"]) for s in d]),
             np.array([direction(where, it[0], "ref_dir", it[1]["ref_dir"])[0] for it in mine]),
-            np.array([it[5] for it in mine])))
+            np.array([it[5] for it in mine]),
+            _coherence(where, mine, freq, [c for c in coherence if c[2] == label])))
     return tuple(out)
