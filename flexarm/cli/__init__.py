@@ -9,7 +9,10 @@ or option, a domain error, any OS error such as a read-only or missing folder, o
 memory), printed as one line ``flexarm <command>: error: ...`` naming the file or option;
 130 interrupted (Ctrl-C; atomic writers leave nothing half-written); 1 an unexpected
 exception, which is a bug: one line saying so, and ``-v`` (or ``FLEXARM_DEBUG=1``) shows its
-traceback.  ``FLEXARM_DEBUG=1`` also shows the traceback of user errors.
+traceback.  ``FLEXARM_DEBUG=1`` also shows the traceback of user errors.  A usage error
+prints the usage and one line (a value refused by its option's type, :mod:`._numbers`:
+the line alone), and :func:`main` returns 2 (``--help`` and ``--version`` exit through
+argparse).
 """
 
 from __future__ import annotations
@@ -22,6 +25,7 @@ import warnings
 
 from . import (  # noqa: F401
     arm,
+    compensate,
     contact,
     damping,
     demo,
@@ -33,13 +37,14 @@ from . import (  # noqa: F401
     validation,
 )
 from ._common import COMMANDS, set_quiet
+from ._numbers import NUMBER_RULE, ArgumentParser
 
 __all__ = ["main", "parser", "COMMANDS"]
 
 
 #: Command groups in the order ``flexarm --help`` lists them (the main job first).
-_GROUPS = ("demo", "part", "arm", "flexible", "contact", "validation", "plan", "lab_data",
-           "damping", "export")
+_GROUPS = ("demo", "part", "arm", "flexible", "contact", "compensate", "validation", "plan",
+           "lab_data", "damping", "export")
 
 
 def _group_rank(item) -> int:
@@ -73,9 +78,10 @@ def parser() -> argparse.ArgumentParser:
     generated from it)."""
     from .. import __version__
 
-    top = argparse.ArgumentParser(
+    top = ArgumentParser(
         prog="flexarm",
         description="FE substructuring and modal reduction for industrial robot arms.",
+        epilog=NUMBER_RULE,
         formatter_class=_HelpFormatter,
     )
     top.add_argument("--version", action="version", version=f"flexarm {__version__}")
@@ -109,9 +115,14 @@ def main(argv: list[str] | None = None) -> int:
     from ..fe.errors import FlexarmError
 
     cli = parser()
-    args = cli.parse_args(argv)
-    if args.verbose and args.quiet:
-        cli.error("-v/--verbose and -q/--quiet exclude each other")
+    try:  # a usage error (a bad option or value) has printed its line: its exit code
+        args = cli.parse_args(argv)
+        if args.verbose and args.quiet:
+            cli.error("-v/--verbose and -q/--quiet exclude each other")
+    except SystemExit as exc:
+        if not exc.code:  # --help, --version
+            raise
+        return int(exc.code) if isinstance(exc.code, int) else 2
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.ERROR if args.quiet else logging.WARNING,
         format="%(levelname)s %(name)s: %(message)s",

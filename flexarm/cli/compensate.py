@@ -1,0 +1,65 @@
+"""Correcting a program: ``compensate`` (deflection-compensated RAPID module)."""
+
+from __future__ import annotations
+
+import argparse
+
+from ._common import add_robot_args, arm_spec_from, command, out, robot_from, say, wrote
+from ._numbers import number, numbers
+
+#: The compensation runs on the E-model or the flexible arm.
+_MODELS = ("emodel", "cb", "guyan")
+
+
+def _add_compensate(p: argparse.ArgumentParser) -> None:
+    p.add_argument("program", help="RAPID module (.mod) to correct")
+    add_robot_args(p, _MODELS, pose=False)
+    p.add_argument("--force", required=True,
+                   help="process force: base:fx=..,fy=..,fz=.. (base frame), tool:fz=300 "
+                        "(tool frame), ballbar:800N[,pull] (the circle test's bar), or a CSV "
+                        "of per-target forces (target,fx_N,fy_N,fz_N[,mx_Nm,my_Nm,mz_Nm])")
+    p.add_argument("-o", "--output", required=True, help="compensated module to write (.mod)")
+    p.add_argument("--csv", default=None,
+                   help="per-target deviation before/after (default: OUTPUT with .csv)")
+    p.add_argument("--png", default=None,
+                   help="top view and polar deviation (default: OUTPUT with .png)")
+    p.add_argument("--proc", action="append", default=None,
+                   help="procedure to compensate (repeatable; default: every procedure)")
+    p.add_argument("--pivot", type=numbers("length", "mm", -1e4, 1e4, n=3, result="m"),
+                   default=None,
+                   help="ball-bar pivot x,y,z [mm] (default: fitted to the module's circles)")
+    p.add_argument("--tool", default="program", choices=["program", "tool0", "robot"],
+                   help="what the targets are read as: the instructions' tool (tool0 or a "
+                        "tooldata of the module), the flange, or the robot file's TCP")
+    p.add_argument("--no-gravity", action="store_true",
+                   help="compensate the process load only (relative to the unloaded run), "
+                        "not the gravity sag")
+    p.add_argument("--split", type=number("length", "mm", 0, 1e5, open_low=True), default=None,
+                   metavar="MM",
+                   help="split MoveL/MoveC longer than MM into equal sub-motions through new "
+                        "robtargets, so the path follows a deflection that changes along a "
+                        "motion (default: keep the module's structure)")
+    p.add_argument("--step", type=number("length", "mm", 0, 1000, open_low=True), default=2.0,
+                   help="path sampling step [mm]")
+    p.add_argument("--effect", action="append", default=[],
+                   help="joint effect on top of the robot file's, e.g. backlash:j2=0.1mrad "
+                        "(repeatable)")
+
+
+@command("compensate", "shift a RAPID program's robtargets so the loaded tool lands on the "
+         "programmed path", _add_compensate)
+def _run_compensate(args) -> int:
+    from ..robot.effects import parse_effect
+    from ..studies.compensation import compensate
+
+    robot = robot_from(args)
+    procs = None if args.proc is None else [n.strip() for p in args.proc for n in p.split(",")
+                                            if n.strip()]
+    res = compensate(args.program, robot, args.force, procs=procs, spec=arm_spec_from(args),
+                     effects=[parse_effect(e, robot.chain.n_joints) for e in args.effect],
+                     tool=None if args.tool == "program" else args.tool,
+                     gravity=not args.no_gravity, pivot=args.pivot, step_mm=args.step,
+                     split_mm=args.split, progress=say)
+    out(res.text())
+    wrote(res.write(args.output, args.csv, args.png))
+    return 0

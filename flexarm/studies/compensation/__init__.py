@@ -1,0 +1,42 @@
+"""Deflection-compensated robot programs: a RAPID program, a process force and an
+(identified) robot model in, the program whose loaded tool lands on the programmed path
+out, and the virtual lab that runs it.
+
+Modules, each with one job: :mod:`.forces` (process force specs), :mod:`.ik_batch`
+(small motions, batched Newton IK), :mod:`.program` (procedures as the arm runs them),
+:mod:`.loaded` (the arm's deflection with gravity, joint laws, balancer and tool),
+:mod:`.fixed_point` (the target correction), :mod:`.limits` (where a static shift cannot
+help), :mod:`.densify` (splitting long motions), :mod:`.rapid_out` (writing only the
+robtargets), :mod:`.runs` (a loaded program's path and deviation), :mod:`.result`,
+:mod:`.plots`, :mod:`.workflow` (:func:`compensate`) and :mod:`.lab` (the virtual lab
+running a program).
+
+A member of the flat floor of :mod:`flexarm.studies`: it may import
+:mod:`flexarm.studies.contact` and the layers below (:mod:`flexarm.validation` for the
+measurement file formats).
+"""
+
+from .fixed_point import Correction, correct_targets
+from .forces import (
+    BallBar,
+    ConstantWrench,
+    ForceSpec,
+    TargetWrenches,
+    parse_force,
+    read_target_wrenches,
+)
+from .lab import LabRun, measure_program
+from .limits import LawJump, LimitHit, Limits, NearSingular
+from .loaded import LoadedArm, deflection, loaded_arm
+from .program import ProgramPath, program_paths
+from .result import CompensationResult, TargetShift
+from .runs import PathRun, run_program
+from .workflow import compensate
+
+__all__ = [
+    "BallBar", "CompensationResult", "ConstantWrench", "Correction", "ForceSpec", "LabRun",
+    "LawJump", "LimitHit", "Limits", "LoadedArm", "NearSingular", "PathRun", "ProgramPath",
+    "TargetShift", "TargetWrenches", "compensate", "correct_targets", "deflection",
+    "loaded_arm", "measure_program", "parse_force", "program_paths", "read_target_wrenches",
+    "run_program",
+]
