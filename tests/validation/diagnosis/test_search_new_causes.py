@@ -28,6 +28,7 @@ from flexarm.validation.dynamic.shapes import default_points
 from flexarm.validation.lab.modal_lab import virtual_modal, virtual_shapes
 
 from ..helpers import PERTURB
+from .test_apply_round_trip import assert_round_trip
 
 SIGMA, FREQ_NOISE = 15e-6, 0.003
 
@@ -50,7 +51,8 @@ CASES = {
 
 
 @pytest.mark.parametrize("hidden", sorted(CASES))
-def test_a_cause_outside_the_joint_library_is_named_first(demo, lab, hidden):
+def test_a_cause_outside_the_joint_library_is_named_first(demo, lab, hidden, tmp_path):
+    """... and ``diagnose --apply`` writes it: the file gives the final model back."""
     kind, param, truth, rel = CASES[hidden]
     robot, arm = demo
     data = lab([hidden], seed=1)
@@ -58,6 +60,8 @@ def test_a_cause_outside_the_joint_library_is_named_first(demo, lab, hidden):
                   heldout=False)
     assert [e.kind for e in dg.accepted] == [kind], dg.text()
     assert dg.accepted[0].get(param) == pytest.approx(truth, rel=rel)
+    assert_round_trip(robot, arm, data, dg, {p: robot.pose(p) for p in ("P1", "P2", "P3")},
+                      tmp_path)
     assert not dg.unexplained
 
 
