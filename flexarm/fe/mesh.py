@@ -16,7 +16,7 @@ from .errors import MeshError
 from .notebook import names
 from .structured import box_tets, promote_tet10
 from .tolerances import tol
-from .topology import TET10_EDGES, TET_FACES
+from .topology import TET10_EDGES, TET_FACES, outer_faces
 
 __all__ = ["TetMesh", "TET10_EDGES", "TET_FACES"]
 
@@ -136,19 +136,22 @@ volume 0.00064 m^3)
         """(2, 3) float: min and max corner of the bounding box [m]."""
         return np.stack([self.points.min(axis=0), self.points.max(axis=0)])
 
-    def boundary_faces(self) -> np.ndarray:
+    def boundary_faces(self, outer: bool = False) -> np.ndarray:
         """(k, 3) int: corner triangles on the boundary, oriented outward.
 
-        A face is on the boundary when exactly one element owns it.
+        A face is on the boundary when exactly one element owns it.  ``outer``: only the
+        outer skins, not the walls of inner cavities (:func:`~.topology.outer_faces`).
         """
         faces = self.corner_tets[:, TET_FACES].reshape(-1, 3)
         key = np.sort(faces, axis=1)
         _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-        return faces[counts[inverse.ravel()] == 1]
+        faces = faces[counts[inverse.ravel()] == 1]
+        return faces[outer_faces(self.points, faces)] if outer else faces
 
-    def boundary_nodes(self) -> np.ndarray:
-        """(k,) int: every node on the boundary surface (mid-edge nodes included for Tet10)."""
-        faces = self.boundary_faces()
+    def boundary_nodes(self, outer: bool = False) -> np.ndarray:
+        """(k,) int: every node on the boundary surface (mid-edge nodes included for Tet10);
+        ``outer``: on the outer skins only (no node of a hollow link's cavity wall)."""
+        faces = self.boundary_faces(outer)
         nodes = set(np.unique(faces).tolist())
         if self.order == 2:
             edges = np.sort(self.corner_tets[:, TET10_EDGES].reshape(-1, 2), axis=1)

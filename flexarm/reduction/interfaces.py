@@ -198,7 +198,8 @@ def select_region(mesh: TetMesh, region: Region, surface_only: bool = True) -> I
     mesh : TetMesh
     region : CylinderRegion or NodeSetRegion
     surface_only : bool
-        Cylinders keep only boundary nodes; a node set with interior nodes raises
+        Cylinders keep only nodes of the outer skin (a seat on a hollow link takes none
+        from the wall of its cavity); a node set with interior nodes raises
         :class:`InterfaceError`.
 
     Examples
@@ -208,7 +209,7 @@ def select_region(mesh: TetMesh, region: Region, surface_only: bool = True) -> I
     4
     """
     if isinstance(region, CylinderRegion):
-        cand = mesh.boundary_nodes() if surface_only else np.arange(mesh.n_nodes)
+        cand = mesh.boundary_nodes(outer=True) if surface_only else np.arange(mesh.n_nodes)
         return cand[region.contains(mesh.points[cand])]
     if region.node_set not in mesh.node_sets:
         known = ", ".join(sorted(mesh.node_sets)) or "none"

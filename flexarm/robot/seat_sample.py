@@ -104,10 +104,13 @@ def surface_sample(vertices, faces, spacing: float | None = None) -> SurfaceSamp
 
 @lru_cache(maxsize=32)
 def _cached_sample(path: str, units: str, mtime: float) -> SurfaceSample:
+    from ..fe.topology import outer_faces
     from ..meshes import load_surface
 
     surf = load_surface(path, units=units)
-    return surface_sample(surf.vertices, surf.faces)
+    # a seat is on the outside: a hollow link's cavity wall would read as bores and faces
+    faces = np.asarray(surf.faces)
+    return surface_sample(surf.vertices, faces[outer_faces(surf.vertices, faces)])
 
 
 def link_sample(link: Link) -> SurfaceSample:

@@ -100,3 +100,24 @@ def test_parse_cylinder():
     assert (ring.r_min, ring.r_max, ring.half_width) == (0.02, 0.05, 0.01)
     with pytest.raises(ValueError, match="NAME:cx,cy,cz,ax,ay,az,r,w"):
         parse_cylinder("hub:1,2,3")
+
+
+def _hollow_cube():
+    """The unit cube in 3 x 3 x 3 cells with the centre cell's tetrahedra removed: a
+    solid with one closed cavity (its wall: the 8 nodes of the centre cell)."""
+    from dataclasses import replace
+
+    cube = TetMesh.box((3.0, 3.0, 3.0), (3, 3, 3))
+    centroids = cube.points[cube.tets].mean(axis=1)
+    keep = ~np.all((centroids > 1.0) & (centroids < 2.0), axis=1)
+    return replace(cube, tets=cube.tets[keep])
+
+
+def test_a_seat_takes_no_node_of_a_cavity_wall():
+    cube = _hollow_cube()
+    # 4^3 - 2^3 = 56 nodes on the outer skin; the cavity wall adds the 8 inner ones
+    assert cube.boundary_nodes().size == 64 and cube.boundary_nodes(outer=True).size == 56
+    through = CylinderRegion("z", (1.5, 1.5, 1.5), (0, 0, 1), 0.0, 0.8, 1.6)
+    nodes = select_region(cube, through)
+    assert nodes.size == 8  # the 4 nodes of each end face inside r < 0.8; none inside
+    assert set(np.abs(cube.points[nodes, 2] - 1.5).round(6)) == {1.5}

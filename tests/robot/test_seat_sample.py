@@ -39,3 +39,20 @@ def test_link_sample_is_kept_and_needs_a_mesh(demo_robot):
     assert link_sample(link) is link_sample(link)
     with pytest.raises(ValueError, match=f"links.{link.name}: no CAD mesh"):
         link_sample(dataclasses.replace(link, mesh=None))
+
+
+def test_the_sample_of_a_hollow_link_holds_no_point_of_its_cavity(demo_robot, tmp_path):
+    """A shell (a 0.2 m box with a 0.1 m cavity, as hollowing writes it): every sample
+    point lies on the outer faces, and the area is the outer box's."""
+    import dataclasses
+
+    import trimesh
+
+    outer, inner = trimesh.creation.box((0.2, 0.2, 0.2)), trimesh.creation.box((0.1,) * 3)
+    shell = trimesh.Trimesh(np.vstack([outer.vertices, inner.vertices]),
+                            np.vstack([outer.faces, inner.faces[:, ::-1] + 8]), process=False)
+    shell.export(tmp_path / "shell.stl")
+    link = dataclasses.replace(demo_robot.links[-1], mesh=tmp_path / "shell.stl", units="m")
+    s = link_sample(link)
+    assert np.abs(s.points).max(axis=1).min() == pytest.approx(0.1)
+    assert s.weight * len(s.points) == pytest.approx(6 * 0.2**2)
