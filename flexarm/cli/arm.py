@@ -1,4 +1,5 @@
-"""Analyses of an arm at a pose: ``import-urdf``, ``modes``, ``compliance``, ``frf``, ``map``."""
+"""The robot file and analyses of an arm at a pose: ``import-urdf``, ``seats``, ``modes``,
+``compliance``, ``frf``, ``map``."""
 
 from __future__ import annotations
 
@@ -63,6 +64,45 @@ def _run_import_urdf(args) -> int:
         out(line)
     problems = () if args.no_regions else build_problems(imported.robot)
     if problems:  # the file stays, to be fixed; the exit code says it cannot be built yet
+        more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
+        raise ValueError(f"{args.output} cannot be built: {problems[0]}{more}; give the "
+                         f"seat with --seat LINK:JOINT=cx,cy,cz,ax,ay,az,r_min,r_max,w")
+    return 0
+
+
+# --- seats -----------------------------------------------------------------------------
+def _add_seats(p: argparse.ArgumentParser) -> None:
+    p.add_argument("robot", help="robot.toml whose bearing seats to edit")
+    p.add_argument("-o", "--output", required=True, help="robot.toml to write (may be the same)")
+    p.add_argument("--seat", action="append", default=[],
+                   metavar="LINK:JOINT=cx,cy,cz,ax,ay,az,r_min,r_max,w",
+                   help="a bearing seat given by hand (repeatable; metres, link frame): it "
+                        "replaces the region of that name, review mark included")
+    p.add_argument("--redetect", default=None, metavar="all|LINK[,LINK...]",
+                   help="find the seats of these links again on their CAD (the hand-given "
+                        "ones kept, the seat across each joint paired with them)")
+
+
+@command("seats", "edit the bearing seats of a robot file: give seats by hand, find others "
+         "again on the CAD", _add_seats)
+def _run_seats(args) -> int:
+    from ..robot.formats import read, write
+    from ..robot.seat_review import parse_seat
+    from ..studies.seat_check import build_problems
+    from ..studies.seat_edit import edit_seats
+
+    seats = [parse_seat(text) for text in args.seat]  # a bad one fails before any work
+    redetect = [] if args.redetect is None else [
+        n.strip() for n in args.redetect.split(",") if n.strip()]
+    if not seats and not redetect:
+        raise ValueError("nothing to do: give --seat LINK:JOINT=... or --redetect LINKS")
+    edit = edit_seats(read(args.robot), seats, redetect)
+    problems = build_problems(edit.robot)
+    write(args.output, edit.robot)
+    for line in edit.lines():
+        out(line)
+    out(f"wrote {args.output}")
+    if problems:  # written, to be fixed; the exit code says it cannot be built yet
         more = f" (and {len(problems) - 1} more)" if len(problems) > 1 else ""
         raise ValueError(f"{args.output} cannot be built: {problems[0]}{more}; give the "
                          f"seat with --seat LINK:JOINT=cx,cy,cz,ax,ay,az,r_min,r_max,w")

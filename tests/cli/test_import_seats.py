@@ -129,3 +129,54 @@ def test_bad_seat_options_are_one_line(urdf, tmp_path, seat, message):
                          seat])
     assert code == 2 and err.count("\n") == 1 and message in err
     assert not (tmp_path / "x.toml").exists()
+
+
+def test_seats_command_fixes_an_imported_file(urdf, tmp_path):
+    """``flexarm seats`` on the imported file: the hand-given seat replaces the suggestion
+    (review mark gone), every other region stays as imported, the file builds."""
+    imported, fixed = tmp_path / "cone.toml", tmp_path / "fixed.toml"
+    assert _run(["import-urdf", str(urdf), "-o", str(imported)])[0] == 0
+    seat = "link_2:j2=0,0,0.05,0,0,1,0,0.05,0.04"
+    code, out, err = _run(["seats", str(imported), "--seat", seat, "-o", str(fixed)])
+    assert code == 0, err
+    before, after = _regions(imported), _regions(fixed)
+    assert set(after) == set(before)
+    assert not is_review(after[("link_2", "j2")])
+    assert after[("link_2", "j2")].center == pytest.approx((0.0, 0.0, 0.05))
+    assert all(after[k] == before[k] for k in before if k != ("link_2", "j2"))
+    assert out.splitlines()[0].startswith("link_2:j2: ") and "(review) -> 0,0,0.05," in out
+
+
+def test_seats_command_finds_a_link_again(urdf, tmp_path):
+    """``--redetect link_1`` on a file whose link_1 seats were moved by hand: they are
+    found again where the import found them; no other region moves."""
+    import dataclasses
+
+    imported, moved, again = tmp_path / "cone.toml", tmp_path / "moved.toml", tmp_path / "a.toml"
+    assert _run(["import-urdf", str(urdf), "-o", str(imported)])[0] == 0
+    robot = toml.read(imported)
+    links = tuple(dataclasses.replace(lk, regions={
+        n: dataclasses.replace(r, center=(r.center[0], r.center[1], r.center[2] + 0.05))
+        for n, r in lk.regions.items()}) if lk.name == "link_1" else lk for lk in robot.links)
+    toml.write(moved, dataclasses.replace(robot, links=links))
+    code, out, err = _run(["seats", str(moved), "--redetect", "link_1", "-o", str(again)])
+    assert code != 1, err
+    before, after = _regions(imported), _regions(again)
+    assert set(after) == set(before)
+    for key, region in before.items():
+        assert after[key].center == pytest.approx(region.center, abs=1e-9), key
+    assert {ln.split(": ")[0] for ln in out.splitlines() if " -> " in ln} == {
+        "link_1:j1", "link_1:j2"}
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--redetect", "nolink"], "--redetect nolink: no link 'nolink'"),
+    ([], "nothing to do"),
+    (["--seat", "link_2:j9=0,0,0,0,0,1,0,0.05,0.04"], "link 'link_2' has no joint 'j9'"),
+])
+def test_seats_command_refuses_in_one_line(urdf, tmp_path, argv, needle):
+    imported = tmp_path / "cone.toml"
+    assert _run(["import-urdf", str(urdf), "-o", str(imported)])[0] == 0
+    code, out, err = _run(["seats", str(imported), *argv, "-o", str(tmp_path / "x.toml")])
+    assert code == 2 and needle in err.strip().splitlines()[-1], err
+    assert not (tmp_path / "x.toml").exists()
