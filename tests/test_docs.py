@@ -160,3 +160,22 @@ def test_a_browser_shows_the_pages_with_every_picture(site):
             assert not broken, (page.name, broken)
     finally:
         driver.quit()
+
+
+def _benchmark_rows() -> list[str]:
+    text = (DOCS / "benchmarks.md").read_text()
+    return [ln for ln in text.splitlines()
+            if ln.startswith("| ") and not ln.startswith(("| script", "|---"))]
+
+
+def test_every_benchmark_figure_names_its_command_date_and_load():
+    """Each row of the benchmark table: the command that prints it (a script that exists),
+    the date it was measured and the machine's load, or the plain statement that the date
+    or load was not recorded (figures from before this rule)."""
+    rows = _benchmark_rows()
+    assert len(rows) >= 10
+    for row in rows:
+        command = re.search(r"`python (benchmarks/\w+\.py)[^`]*`", row)
+        assert command and (ROOT / command.group(1)).is_file(), row[:80]
+        assert re.search(r"20\d\d-\d\d-\d\d|date not recorded", row), row[:80]
+        assert re.search(r"load \d|load not recorded", row), row[:80]
