@@ -18,9 +18,17 @@ def _add_compensate(p: argparse.ArgumentParser) -> None:
                    help="process force: base:fx=..,fy=..,fz=.. (base frame), tool:fz=300 "
                         "(tool frame), ballbar:800N[,pull] (the circle test's bar), or a CSV "
                         "of per-target forces (target,fx_N,fy_N,fz_N[,mx_Nm,my_Nm,mz_Nm])")
-    p.add_argument("-o", "--output", required=True, help="compensated module to write (.mod)")
+    p.add_argument("-o", "--output", required=True,
+                   help="compensated program to write: .mod (RAPID), .src (KUKA KRL, with "
+                        "its .dat) or .csv (poses)")
+    p.add_argument("--format", default=None, choices=["rapid", "krl", "csv"],
+                   help="program format (default: from the suffix of -o)")
+    p.add_argument("--krl-template", default=None, metavar="DAT",
+                   help="KRL .dat whose S and T are kept for targets whose joints are not "
+                        "known (default S 2 T 0)")
     p.add_argument("--csv", default=None,
-                   help="per-target deviation before/after (default: OUTPUT with .csv)")
+                   help="per-target deviation before/after (default: OUTPUT with .csv, "
+                        "or OUTPUT_deviation.csv for a CSV program)")
     p.add_argument("--png", default=None,
                    help="top view and polar deviation (default: OUTPUT with .png)")
     p.add_argument("--proc", action="append", default=None,
@@ -50,8 +58,14 @@ def _add_compensate(p: argparse.ArgumentParser) -> None:
          "programmed path", _add_compensate)
 def _run_compensate(args) -> int:
     from ..robot.effects import parse_effect
+    from ..robot.formats.krl import read_status_turn
     from ..studies.compensation import compensate
+    from ..studies.compensation.program_out import program_format
 
+    fmt = program_format(args.output, args.format)  # bad names fail before the work
+    if args.krl_template is not None and fmt != "krl":
+        raise ValueError(f"--krl-template goes with a KRL program (-o NAME.src), not {fmt}")
+    template = None if args.krl_template is None else read_status_turn(args.krl_template)
     robot = robot_from(args)
     procs = None if args.proc is None else [n.strip() for p in args.proc for n in p.split(",")
                                             if n.strip()]
@@ -61,5 +75,5 @@ def _run_compensate(args) -> int:
                      gravity=not args.no_gravity, pivot=args.pivot, step_mm=args.step,
                      split_mm=args.split, progress=say)
     out(res.text())
-    wrote(res.write(args.output, args.csv, args.png))
+    wrote(res.write(args.output, args.csv, args.png, fmt, template))
     return 0

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ._common import MESH_SIZE, add_measured_pose_args, add_robot_args, command, out, say, wrote
-from ._numbers import band, count, effect, levels, number
+from ._numbers import band, count, effect, levels, number, numbers
 
 #: The tracker noise of files without a sigma column [µm] (a bare number is µm).
 _TRACKER_UM = number("length", "um", 0, 1e4, open_low=True)
@@ -61,14 +61,59 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
                    default=None, help="band of the FRFs of a --modal universal "
                    "file [Hz], LO:HI (default: 0.25 Hz to 1.2x the highest mode kept), "
                    "e.g. 0.25:300 to reach the wrist modes")
-    p.add_argument("-o", "--output", required=True, help="static CSV to write")
+    p.add_argument("--program", default=None, help="run this RAPID module under --force "
+                   "instead of static series, and write the measured tool path (path CSV)")
+    p.add_argument("--reference", default=None, help="with --program: the module the path is "
+                   "measured against, e.g. the original of a compensated program (default: "
+                   "the program)")
+    p.add_argument("--force", default=None, help="with --program: the process force, as "
+                   "compensate takes it (ballbar:800N, tool:fz=300, base:..., forces.csv)")
+    p.add_argument("--proc", action="append", default=None, help="with --program: procedure "
+                   "to run (repeatable; default: every procedure; several write "
+                   "OUTPUT_<procedure>.csv each)")
+    p.add_argument("--pivot", type=numbers("length", "mm", -1e4, 1e4, n=3, result="m"),
+                   default=None, help="with --program: ball-bar pivot x,y,z [mm] (default: "
+                   "fitted to the reference's circles)")
+    p.add_argument("--tool", default="program", choices=["program", "tool0", "robot"],
+                   help="with --program: what the targets are read as, as compensate reads "
+                        "them (the instructions' tool, the flange, the robot file's TCP)")
+    p.add_argument("--step", type=number("length", "mm", 0, 1000, open_low=True), default=2.0,
+                   help="with --program: reading step along the path [mm]")
+    p.add_argument("-o", "--output", required=True,
+                   help="static CSV to write (the path CSV with --program)")
 
 
-@command("lab", "virtual lab: static series from the model + hidden effects + tracker noise",
-         _add_lab)
+def _run_program_lab(args) -> int:
+    """``lab --program``: the measured path of a program under load."""
+    from ..robot.effects import parse_effect
+    from ..studies.compensation.lab import lab_program
+    from ._common import arm_spec_from, robot_from
+
+    if args.force is None:
+        raise ValueError("--program needs --force (e.g. ballbar:800N, tool:fz=300)")
+    if args.modal is not None:
+        raise ValueError("--modal goes with static series, not with --program")
+    robot = robot_from(args)
+    procs = None if args.proc is None else [n.strip() for p in args.proc for n in p.split(",")
+                                            if n.strip()]
+    lab = lab_program(args.program, robot,
+                      [parse_effect(e, robot.chain.n_joints) for e in args.effect], args.force,
+                      procs=procs, reference=args.reference, spec=arm_spec_from(args),
+                      noise=args.noise, seed=args.seed, pivot=args.pivot,
+                      tool=None if args.tool == "program" else args.tool, step_mm=args.step,
+                      progress=say)
+    out(lab.text())
+    wrote(lab.write(args.output))
+    return 0
+
+
+@command("lab", "virtual lab: static series (or a program's path under load, --program) "
+         "from the model + hidden effects + tracker noise", _add_lab)
 def _run_lab(args) -> int:
     from ..validation.lab.virtual_lab import run_lab
 
+    if args.program is not None:
+        return _run_program_lab(args)
     lab = run_lab(args.robot, args.effect, _options(args), noise=args.noise, poses=args.poses,
                   loads=args.loads, dirs=args.dirs, cycles=args.cycles, seed=args.seed,
                   ref_noise=args.ref_noise, modal=args.modal is not None, n_modes=args.n_modes,
@@ -88,13 +133,23 @@ def _add_compare(p: argparse.ArgumentParser) -> None:
                    help="tracker noise [µm] (no sigma column)")
     p.add_argument("--freq-noise", type=_PERCENT, default=0.5, help="frequency noise [%%] (modal)")
     p.add_argument("-o", "--output", default=None, help="report folder (CSV, PNG)")
+    p.add_argument("--program", default=None, help="a path CSV against this RAPID module's "
+                   "programmed path (the original program): RMS and peak deviation")
+    p.add_argument("--proc", default=None, help="with --program: the procedure (default: the "
+                   "one nearest to the readings)")
 
 
 @command("compare", "model predictions vs measurements (static series, modal data, FRFs): "
-         "errors, chi2_red, MAC, plots", _add_compare)
+         "errors, chi2_red, MAC, plots; a measured path vs its program (--program)",
+         _add_compare)
 def _run_compare(args) -> int:
     from ..validation.workflow import compare
 
+    if args.program is not None:
+        from ..studies.compensation.measured import compare_path
+
+        out(compare_path(args.data, args.program, args.proc).text())
+        return 0
     cmp = compare(args.data, args.robot, _options(args), noise_um=args.noise,
                   freq_noise_pct=args.freq_noise, progress=say, pose=args.pose,
                   response=args.response, tcp_node=args.tcp_node)

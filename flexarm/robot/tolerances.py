@@ -15,6 +15,9 @@ class Tolerances:
     collinear: float = 1e-9
     #: Below this angle [rad] SLERP falls back to normalised linear interpolation.
     slerp_small_angle: float = 1e-9
+    #: KUKA's A, B, C: below this cos(B) [-] the rotation is at B = ±90 deg, where only
+    #: A ∓ C is defined (A is set to 0, C takes the rest).
+    euler_gimbal: float = 1e-12
     #: Bearing seats: share of the angular sectors about an axis [-] that a surface must
     #: cover to close a ring (a plane that merely contains the axis covers two of twelve).
     seat_ring_coverage: float = 0.75

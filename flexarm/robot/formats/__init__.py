@@ -1,7 +1,8 @@
 """Robot description formats, one module each, found by extension through ``registry``:
 TOML (read and write, :mod:`~flexarm.robot.formats.toml`) and URDF (read,
 :mod:`~flexarm.robot.formats.urdf`).  RAPID programs (:mod:`~flexarm.robot.formats.rapid`)
-describe paths, not robots."""
+describe paths, not robots; :mod:`~flexarm.robot.formats.krl` (KUKA KRL) and
+:mod:`~flexarm.robot.formats.poses_csv` (a CSV of poses) write them for other controllers."""
 
 from ...fe.errors import ReadError
 from ...fe.formats import FormatRegistry

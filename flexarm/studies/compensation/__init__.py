@@ -8,8 +8,9 @@ Modules, each with one job: :mod:`.forces` (process force specs), :mod:`.ik_batc
 :mod:`.fixed_point` (the target correction), :mod:`.limits` (where a static shift cannot
 help), :mod:`.densify` (splitting long motions), :mod:`.rapid_out` (writing only the
 robtargets), :mod:`.runs` (a loaded program's path and deviation), :mod:`.result`,
-:mod:`.plots`, :mod:`.workflow` (:func:`compensate`) and :mod:`.lab` (the virtual lab
-running a program).
+:mod:`.plots`, :mod:`.workflow` (:func:`compensate`), :mod:`.program_out` (the program
+as RAPID, KUKA KRL or a CSV of poses), :mod:`.lab` (the virtual lab running a program)
+and :mod:`.measured` (a measured path against the program).
 
 A member of the flat floor of :mod:`flexarm.studies`: it may import
 :mod:`flexarm.studies.contact` and the layers below (:mod:`flexarm.validation` for the
@@ -25,18 +26,21 @@ from .forces import (
     parse_force,
     read_target_wrenches,
 )
-from .lab import LabRun, measure_program
+from .lab import LabRun, lab_program, measure_program
 from .limits import LawJump, LimitHit, Limits, NearSingular
 from .loaded import LoadedArm, deflection, loaded_arm
+from .measured import MeasuredPath, compare_path
 from .program import ProgramPath, program_paths
+from .program_out import program_format, write_program
 from .result import CompensationResult, TargetShift
 from .runs import PathRun, run_program
 from .workflow import compensate
 
 __all__ = [
     "BallBar", "CompensationResult", "ConstantWrench", "Correction", "ForceSpec", "LabRun",
-    "LawJump", "LimitHit", "Limits", "LoadedArm", "NearSingular", "PathRun", "ProgramPath",
-    "TargetShift", "TargetWrenches", "compensate", "correct_targets", "deflection",
-    "loaded_arm", "measure_program", "parse_force", "program_paths", "read_target_wrenches",
-    "run_program",
+    "LawJump", "LimitHit", "Limits", "LoadedArm", "MeasuredPath", "NearSingular", "PathRun",
+    "ProgramPath", "TargetShift", "TargetWrenches", "compare_path", "compensate",
+    "correct_targets", "deflection", "lab_program", "loaded_arm", "measure_program",
+    "parse_force", "program_format", "program_paths", "read_target_wrenches", "run_program",
+    "write_program",
 ]

@@ -14,22 +14,26 @@ when the measured program is its compensated version), and the readings as
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 
+from ...assembly.arm import ArmSpec
 from ...fe.typing import PathType
 from ...robot.formats.rapid import read_rapid
+from ...validation.data.formats import write_path
 from ...validation.data.measurements import PathData
 from ...validation.tolerances import tol as validation_tol
-from .forces import ForceSpec, path_wrenches
+from .forces import ForceSpec, parse_force, path_wrenches
 from .limits import law_jumps
-from .loaded import LoadedArm
+from .loaded import LoadedArm, loaded_arm
 from .program import program_paths
 from .runs import PathRun, path_deviation, run_program
 from .workflow import procedure_pivot
 
-__all__ = ["LabRun", "measure_program"]
+__all__ = ["LabRun", "measure_program", "lab_program"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -43,14 +47,44 @@ class LabRun:
         where a hidden law jumps.
     data : tuple of PathData
         The readings per procedure (positions [m], the force magnitude [N]).
+    about : tuple of str
+        What ran (program, reference, force, hidden effects, noise): the files' comments.
     """
 
     runs: tuple[PathRun, ...]
     data: tuple[PathData, ...]
+    about: tuple[str, ...] = ()
 
     def run(self, name: str) -> PathRun:
         """The run of procedure ``name``."""
         return next(r for r in self.runs if r.name.lower() == name.lower())
+
+    def text(self) -> str:
+        """What the ``lab --program`` command prints (mm)."""
+        lines = list(self.about)
+        for r in self.runs:
+            what = "radial deviation from the programmed circle" if r.circle is not None \
+                else "distance from the programmed path"
+            lines.append(f"  {r.name:12s} {len(r.points)} readings: RMS {what} "
+                         f"{r.rms() * 1e3:.4f} mm, peak {r.peak * 1e3:.4f} mm")
+            if r.is_jump is not None and r.is_jump.any():
+                lines.append(f"  {'':12s} a hidden joint law jumps on {r.is_jump.mean():.0%} "
+                             f"of the readings; RMS elsewhere {r.rms(~r.is_jump) * 1e3:.4f} mm")
+        return "\n".join(lines)
+
+    def paths(self, path: PathType) -> list[Path]:
+        """The files :meth:`write` writes: ``path`` for one procedure, else
+        ``<stem>_<procedure><suffix>`` for each."""
+        path = Path(path)
+        if len(self.runs) == 1:
+            return [path]
+        return [path.with_name(f"{path.stem}_{r.name}{path.suffix}") for r in self.runs]
+
+    def write(self, path: PathType) -> list[Path]:
+        """The readings as path CSVs (``step, x_mm, y_mm, z_mm, f_N``, what ``circle
+        --measured`` and ``compare --program`` read), atomically; returns the paths."""
+        return [write_path(p, d, [*self.about, f"procedure: {r.name}"])
+                for p, d, r in zip(self.paths(path), self.data, self.runs, strict=True)]
 
 
 def measure_program(truth: LoadedArm, robot, program: PathType, force: ForceSpec,
@@ -119,3 +153,71 @@ def measure_program(truth: LoadedArm, robot, program: PathType, force: ForceSpec
         runs.append(run)
         data.append(PathData(steps=np.arange(len(points)), points=points, force=magnitude))
     return LabRun(tuple(runs), tuple(data))
+
+
+def lab_program(program: PathType, robot=None, effects: Sequence = (),
+                force: ForceSpec | str | None = None, *, procs: Sequence[str] | None = None,
+                reference: PathType | None = None,
+                spec: ArmSpec = ArmSpec(),  # noqa: B008 (frozen dataclass)
+                noise: float = validation_tol.tracker_sigma, seed: int = 0, pivot=None,
+                tool=None, step_mm: float = 2.0,
+                progress: Callable[[str], None] | None = None) -> LabRun:
+    """The virtual lab runs ``program`` on ``robot`` with the hidden ``effects``.
+
+    Parameters
+    ----------
+    program : path
+        The RAPID module run (e.g. the compensated one).
+    robot : Robot, path or None
+        The lab's robot as its controller knows it (None: the demo arm).
+    effects : sequence of Effect
+        What the model does not know (stiffness errors, backlash ...).
+    force : ForceSpec or str
+        The process force (:func:`~.forces.parse_force`).
+    procs : sequence of str, optional
+        Procedures run (default: all with motions).
+    reference : path, optional
+        The programmed module the path is measured against (the original of a
+        compensated program; default ``program``).  The ball-bar pivot is fitted to it.
+    spec : ArmSpec
+        The lab arm's model.
+    noise : float
+        Tracker noise per coordinate [m].
+    seed : int
+    pivot : (3,) float, optional
+        Ball-bar pivot [m].
+    tool : None, "tool0", "robot" or (4, 4) float
+        What the targets are read as.
+    step_mm : float
+        Reading step along the path [mm].
+
+    Returns
+    -------
+    LabRun
+
+    Examples
+    --------
+    >>> from flexarm.robot.effects import parse_effect
+    >>> from flexarm.studies.contact.loaded_circle import THESIS_RAPID
+    >>> lab = lab_program(THESIS_RAPID, None, [parse_effect("stiffness:j2=0.7")],
+    ...                   "ballbar:800N", procs=["Path_30"], step_mm=10)
+    >>> bool(1e-3 < lab.run("Path_30").rms() < 3e-3)
+    True
+    """
+    from ...robot import load_robot
+    from ...robot.description import Robot
+
+    if force is None:
+        raise ValueError("give the process force (e.g. ballbar:800N, tool:fz=300)")
+    robot = robot if isinstance(robot, Robot) else load_robot(robot)
+    force = parse_force(force, pivot) if isinstance(force, str) else force
+    truth = loaded_arm(robot, effects, spec, progress=progress)
+    lab = measure_program(truth, robot, program, force, procs, None, reference, noise, seed,
+                          tool, step_mm)
+    hidden = "; ".join(f"{e.label} " + ",".join(f"{k}={v:g}" for k, v in e.params)
+                       for e in effects) or "none"
+    about = (f"flexarm lab: {Path(program).name} run under {force.label}, measured against "
+             f"{Path(reference or program).name}",
+             f"lab arm: {truth.label}; hidden effects: {hidden}; tracker noise "
+             f"{noise * 1e6:g} um per coordinate, seed {seed}")
+    return replace(lab, about=about)

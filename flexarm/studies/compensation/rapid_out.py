@@ -16,16 +16,19 @@ the offsets a reader sees (:func:`written_pose` gives them back exactly).
 from __future__ import annotations
 
 import re
+import tempfile
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from ...fe.files import atomic_path
 from ...fe.typing import ArrayLike, FloatArray, PathType
+from ...robot.formats.rapid import RapidModule, read_rapid
 
 __all__ = ["robtarget_spans", "rewrite_targets", "written_pose", "read_module_text",
-           "write_module_text",
+           "write_module_text", "module_of_text",
            "POS_DECIMALS", "QUAT_DECIMALS"]
 
 #: Decimals of written positions [mm] (1 nm) and quaternion components.
@@ -177,3 +180,18 @@ def write_module_text(path: PathType, text: str, encoding: str = "utf-8") -> Pat
     with atomic_path(path) as tmp:
         Path(tmp).write_bytes(text.encode(encoding))
     return path
+
+
+def module_of_text(text: str, encoding: str = "utf-8", name: str = "module.mod") -> RapidModule:
+    """The :class:`~flexarm.robot.formats.rapid.RapidModule` of RAPID ``text``, with
+    ``path`` = ``name`` (the file it came from, for messages).
+
+    Examples
+    --------
+    >>> module_of_text("MODULE M\\nENDMODULE\\n").name
+    'M'
+    """
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / Path(name).name
+        path.write_bytes(text.encode(encoding))
+        return replace(read_rapid(path), path=str(name))

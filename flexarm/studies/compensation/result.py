@@ -101,6 +101,13 @@ class CompensationResult:
         Procedure -> ball-bar pivot (3,) [m] the prediction used.
     split_mm : float or None
         Longest motion kept [mm] when long motions were split (:mod:`.densify`).
+    header : tuple of str
+        The comment lines written into the program (model, force, what changed).
+    joints : dict
+        Lower-case robtarget -> (joint angles (6,) [rad], ABB ``cfx``) the arm takes at
+        the compensated target (other controllers' configuration data).
+    tools : dict
+        Procedure -> (4, 4) programmed tool frame on the flange (``tool0``) [m].
     """
 
     source: str
@@ -117,6 +124,9 @@ class CompensationResult:
     force_spec: object = None
     pivots: dict = field(default_factory=dict)
     split_mm: float | None = None
+    header: tuple[str, ...] = ()
+    joints: dict = field(default_factory=dict)
+    tools: dict = field(default_factory=dict)
 
     @property
     def largest_shift(self) -> tuple[float, float]:
@@ -183,11 +193,22 @@ class CompensationResult:
 
         return plot_compensation(self, path)
 
+    def write_program(self, path: PathType, fmt: str | None = None,
+                      template: PathType | None = None) -> list[Path]:
+        """The compensated program as RAPID, KUKA KRL or a CSV of poses, by the suffix
+        or ``fmt`` (:func:`~.program_out.write_program`)."""
+        from .program_out import write_program
+
+        return write_program(self, path, fmt, template)
+
     def write(self, module: PathType, csv_path: PathType | None = None,
-              png: PathType | None = None) -> list[Path]:
-        """The module, and the CSV and picture next to it (default names
-        ``<stem>.csv`` and ``<stem>.png``); returns the paths written."""
-        module = Path(module)
-        csv_path = module.with_suffix(".csv") if csv_path is None else Path(csv_path)
-        png = module.with_suffix(".png") if png is None else Path(png)
-        return [self.write_module(module), self.write_csv(csv_path), self.write_plot(png)]
+              png: PathType | None = None, fmt: str | None = None,
+              template: PathType | None = None) -> list[Path]:
+        """The program (:meth:`write_program`), and the CSV and picture next to it
+        (default names :func:`~.program_out.report_paths`); returns the paths written."""
+        from .program_out import program_format, report_paths
+
+        fmt = program_format(module, fmt)
+        csv_path, png = report_paths(module, fmt, csv_path, png)
+        return [*self.write_program(module, fmt, template), self.write_csv(csv_path),
+                self.write_plot(png)]

@@ -11,17 +11,15 @@ program (:mod:`.runs`) and names where a static shift cannot help (:mod:`.limits
 from __future__ import annotations
 
 import logging
-import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 
 from ...assembly.arm import ArmSpec
 from ...fe.typing import PathType
 from ...robot.formats.rapid import RapidModule, RobTarget, read_rapid
-from ...robot.ik_path import rapid_conf, target_frames
+from ...robot.ik_path import TOOL0, rapid_conf, target_frames
 from ...robot.quaternions import quat_from_matrix
 from ..contact.ball_bar import default_pivot
 from ..tolerances import tol
@@ -32,7 +30,7 @@ from .ik_batch import pose_errors
 from .limits import Limits, law_jumps, limit_hits, near_singular
 from .loaded import LoadedArm, law_rotations, loaded_arm
 from .program import ProgramPath, program_paths
-from .rapid_out import read_module_text, rewrite_targets, written_pose
+from .rapid_out import module_of_text, read_module_text, rewrite_targets, written_pose
 from .result import CompensationResult, TargetShift
 from .runs import run_program
 
@@ -56,14 +54,6 @@ def procedure_pivot(force: ForceSpec, module, name: str):
     if force.pivot is not None:
         return np.asarray(force.pivot, dtype=float)
     return default_pivot(module, name)
-
-
-def _read_module(text: str, encoding: str, name: str):
-    """The RapidModule of RAPID ``text`` (read through a temporary file)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / name
-        path.write_bytes(text.encode(encoding))
-        return read_rapid(path)
 
 
 def _correct(la: LoadedArm, pp: ProgramPath, force, pivot):
@@ -137,6 +127,18 @@ def _crossings(name: str, chain, module, targets, q) -> list[str]:
     return [f"{name}: {len(moved)} compensated targets ({shown}) sit across a quadrant "
             "boundary of their programmed configuration by a fraction of a degree; the "
             "configuration is kept as programmed (check ConfL/ConfJ on the controller)"]
+
+
+def _joints(chain, pps) -> dict[str, tuple[np.ndarray, int]]:
+    """Lower-case robtarget -> (joint angles [rad], ABB ``cfx``) at its first use in the
+    program paths ``pps`` (what a controller's configuration data is derived from)."""
+    out: dict[str, tuple[np.ndarray, int]] = {}
+    for pp in pps:
+        cfx = rapid_conf(chain, pp.target_q)[:, 3]
+        for name, q, c, ok in zip(pp.targets, pp.target_q, cfx, pp.is_named, strict=True):
+            if ok:
+                out.setdefault(name.lower(), (q, int(c)))
+    return out
 
 
 def _with_targets(module: RapidModule, new: dict) -> RapidModule:
@@ -253,7 +255,7 @@ def compensate(program: PathType, robot=None, force: ForceSpec | str | None = No
     if split_mm is not None:
         fine = program_paths(robot, module, procs, tool, min(step_mm, split_mm / 4))
         text, split_notes = densify(text, module, fine, robot.chain, split_mm)
-        module = _read_module(text, encoding, Path(program).name)
+        module = module_of_text(text, encoding, str(program))
     pps = program_paths(robot, module, procs, tool, step_mm)
     occurrences, limits, notes, pivots, iterations, skip = _per_procedure(la, robot, module,
                                                                          pps, force)
@@ -283,4 +285,6 @@ def compensate(program: PathType, robot=None, force: ForceSpec | str | None = No
     log.info("compensated %s: %d targets", program, len(shifts))
     return CompensationResult(str(program), new_text, encoding, tuple(shifts), before, after,
                               limits, la.label, force.label, iterations,
-                              tuple(split_notes + notes), force, pivots, split_mm)
+                              tuple(split_notes + notes), force, pivots, split_mm,
+                              tuple(header), _joints(robot.chain, pps_c),
+                              {pp.name: np.linalg.inv(TOOL0) @ pp.tool for pp in pps})
