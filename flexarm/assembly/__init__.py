@@ -23,7 +23,7 @@ from .analyses import (
 )
 from .arm import Arm, ArmSpec, build_arm
 from .bodies import Body, combine_mass_properties, point_mass_properties, rigid_body
-from .build import BuildOptions, LinkBuild, build_link, build_robot
+from .build import BuildOptions, LinkBuild, RobotBuild, build_link, build_robot, robot_build
 from .emodel import emodel, link_mass_properties, total_mass
 from .flexible import flexible_arm, superelement_body
 from .full_fe import full_fe_analysis, full_fe_bodies, full_fe_matrices
@@ -36,8 +36,10 @@ __all__ = [
     "build_arm",
     "BuildOptions",
     "LinkBuild",
+    "RobotBuild",
     "build_link",
     "build_robot",
+    "robot_build",
     "flexible_arm",
     "full_fe_analysis",
     "full_fe_bodies",

@@ -31,23 +31,21 @@ import numpy as np
 from ..fe.cache import Codec, cache_key, cached
 from ..fe.files import digest
 from ..fe.material import Material
-from ..fe.mesh import TetMesh
 from ..reduction import CylinderRegion, Superelement, reduce_with_stats
 from ..reduction.formats import h5
 from ..reduction.tie import tied_superelement
 from ..robot.description import Link, Robot
+from .build_report import RobotBuild, builds_text
+from .link_meshes import LinkMesh, Mesher, link_mesh, link_mesh_id, meshed_link
 
-__all__ = ["BUILD_VERSION", "BuildOptions", "LinkBuild", "link_regions", "link_mesh",
-           "link_material", "link_mesh_id", "build_link", "build_robot", "builds_text", "Mesher",
-           "SUPERELEMENT_CODEC"]
+__all__ = ["BUILD_VERSION", "BuildOptions", "LinkBuild", "RobotBuild", "link_regions",
+           "link_mesh", "link_material", "link_mesh_id", "build_link", "build_robot",
+           "robot_build", "builds_text", "Mesher", "SUPERELEMENT_CODEC"]
 
 log = logging.getLogger(__name__)
 
 #: Version of the build recipe; part of every cache key.
 BUILD_VERSION = 1
-
-#: ``mesher(link, mesh_size [m], order) -> TetMesh`` in the link frame [m].
-Mesher = Callable[[Link, float, int], TetMesh]
 
 
 @dataclass(frozen=True)
@@ -137,6 +135,11 @@ class LinkBuild:
     build_seconds : float
         Wall time [s] of the build that made the superelement (also when it is read
         from the cache: the time that the cache saves).
+    mesher : str
+        What made the tetrahedra (:attr:`~flexarm.assembly.link_meshes.LinkMesh.mesher`;
+        empty for a rigid base), and ``mesher_note`` why ``"auto"`` fell back to fTetWild.
+    mesh_seconds : float
+        Wall time [s] of this build's meshing step (reading a cached mesh included).
     """
 
     name: str
@@ -149,6 +152,9 @@ class LinkBuild:
     is_cached: bool = False
     path: Path | None = None
     build_seconds: float = 0.0
+    mesher: str = ""
+    mesher_note: str = ""
+    mesh_seconds: float = 0.0
 
     @property
     def freq_hz(self) -> np.ndarray:
@@ -190,42 +196,6 @@ def link_material(link: Link, stiffness_scale: float = 1.0) -> Material:
     return dataclasses.replace(link.material, E=link.material.E * stiffness_scale)
 
 
-def link_mesh(link: Link, mesh_size: float, order: int = 1, progress=None,
-              mesher: str = "tetwild") -> TetMesh:
-    """Tetrahedral mesh of the link's CAD [m], link frame (cached on disk).
-
-    The same call as the E-model's mass properties, so both see the same solid;
-    ``mesher`` is the robot's ``model.mesher`` (``"tetwild"`` or ``"gmsh"``).  A volume
-    mesh the link names for ``mesh_size`` is read instead
-    (:func:`~flexarm.robot.volume_meshes.pinned_mesh`).
-    """
-    from ..meshes import load_surface, tetrahedralizer
-    from ..robot.volume_meshes import pinned_mesh
-
-    pinned = pinned_mesh(link, mesh_size, order)
-    if pinned is not None:
-        return pinned
-    if link.mesh is None:
-        raise ValueError(f"links.{link.name}: no mesh to build a flexible link from")
-    surface = load_surface(link.mesh, units=link.units)
-    return tetrahedralizer(mesher)(surface, mesh_size, order=order, name=link.name,
-                                   progress=progress)
-
-
-def link_mesh_id(link: Link, mesher: str | Mesher = "tetwild", mesh_size: float = 0.0,
-                 order: int = 1) -> str:
-    """Digest of the link's tetrahedra at ``mesh_size`` [m] and ``order``: the key of every
-    cache entry computed from them.
-
-    ``mesher`` is the robot's ``model.mesher`` (the mesh comes from the tet cache, so a
-    mesh made again, which pytetwild makes differently, gets new keys downstream) or a
-    :data:`Mesher` callable.
-    """
-    mesh = (mesher(link, mesh_size, order) if callable(mesher) else
-            link_mesh(link, mesh_size, order, mesher=mesher))
-    return digest(mesh.points, mesh.tets)
-
-
 def _save_build(path: Path, value) -> None:
     import h5py
 
@@ -262,8 +232,9 @@ def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
     cache : bool
         Read / write the superelement cache.
     mesher : callable, optional
-        ``mesher(link, mesh_size, order) -> TetMesh`` instead of pytetwild (tests use
-        structured box meshes); its meshes are keyed by their own node/element arrays.
+        ``mesher(link, mesh_size, order) -> TetMesh`` instead of the robot's
+        ``model.mesher`` (tests use structured box meshes); its meshes are keyed by their
+        own node/element arrays.
     progress : callable (str) -> None, optional
     """
     opts = options.resolved(robot)
@@ -275,9 +246,9 @@ def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
         return LinkBuild(lk.name, None, ())
     mat = link_material(lk, opts.stiffness_scale)
     t0 = time.perf_counter()
-    mesh = (mesher(lk, opts.mesh_size, opts.order) if mesher is not None else
-            link_mesh(lk, opts.mesh_size, opts.order, progress=say,
-                      mesher=robot.options.mesher))
+    made: LinkMesh = meshed_link(lk, opts.mesh_size, opts.order, say,
+                                 robot.options.mesher if mesher is None else mesher)
+    mesh = made.mesh
     key = cache_key("superelements", BUILD_VERSION, digest(mesh.points, mesh.tets),
                     opts.mesh_size, opts.order, (mat.E, mat.nu, mat.rho),
                     repr([(n, dataclasses.astuple(lk.regions[n])) for n in names]),
@@ -301,29 +272,83 @@ def build_link(robot: Robot, index: int, options: BuildOptions = BuildOptions(),
         say(f"{lk.name}: superelement from cache ({se.n_dofs} DOF)")
     return LinkBuild(lk.name, se, names, st["n_tets"], st["n_fe_dofs"], se.n_dofs,
                      0.0 if entry.is_hit else time.perf_counter() - t0, entry.is_hit,
-                     entry.path, float(st["seconds"]))
+                     entry.path, float(st["seconds"]), made.mesher, made.note, made.seconds)
 
 
-def builds_text(builds) -> str:
-    """Table of built links: tets, FE DOF, reduced DOF (``rigid`` for a rigid base), build
-    time [s] (``cache`` when read from the cache) and the first fixed-interface
-    frequencies [Hz]."""
-    lines = [f"{'link':<14} {'tets':>7} {'DOF':>7} {'reduced':>7} {'time_s':>7}  "
-             f"fixed-interface f [Hz]"]
-    for lb in builds:
-        f = " ".join(f"{v:.0f}" for v in lb.freq_hz[:5]) or "-"
-        src = "cache" if lb.is_cached else f"{lb.seconds:7.1f}"
-        kind = "rigid" if lb.superelement is None else lb.n_reduced
-        lines.append(f"{lb.name:<14} {lb.n_tets:>7} {lb.n_fe_dofs:>7} {kind:>7} {src:>7}  {f}")
-    return "\n".join(lines)
+def _meshing_work(robot: Robot, index: int, opts: BuildOptions, mesher) -> float | None:
+    """None when building link ``index`` meshes nothing (a rigid base, a mesh file or a
+    cached mesh), else the relative cost of meshing it (1 for a given mesher)."""
+    from .link_meshes import meshing_work
+
+    if not link_regions(robot, index, opts.tcp):
+        return None
+    if mesher is not None:
+        return 1.0
+    return meshing_work(robot.links[index], opts.mesh_size, opts.order, robot.options.mesher)
+
+
+def _picklable(value) -> bool:
+    import pickle
+
+    try:
+        pickle.dumps(value)
+    except Exception:  # noqa: BLE001 - a lambda or a closure: it stays in this process
+        return False
+    return True
+
+
+def robot_build(robot: Robot, options: BuildOptions = BuildOptions(), cache: bool = True,
+                mesher: Mesher | None = None, progress: Callable[[str], None] | None = None,
+                jobs: int | None = 1) -> RobotBuild:
+    """:func:`build_link` for every link, base first, the links that have to be meshed in
+    up to ``jobs`` worker processes (:func:`~flexarm.fe.processes.run_jobs`).
+
+    Parameters
+    ----------
+    robot, options, cache, mesher, progress
+        As for :func:`build_link`.
+    jobs : int, optional
+        Worker processes for the links without a mesh yet (None: one per core; 1: every
+        link here, in order).  The other links are built here.
+
+    Returns
+    -------
+    RobotBuild
+
+    Examples
+    --------
+    >>> from flexarm.robot import load_robot
+    >>> built = robot_build(load_robot(), BuildOptions("guyan"))
+    >>> [lb.mesher for lb in built.links][:3], built.is_reproducible
+    (['file', 'file', 'file'], True)
+    """
+    from ..fe.processes import default_jobs, run_jobs
+
+    opts = options.resolved(robot)
+    jobs = default_jobs() if jobs is None else int(jobs)
+    if jobs < 1:
+        raise ValueError(f"jobs must be at least 1, got {jobs}")
+    log.info("building %s (%s)", robot.name, opts.method)
+    start = time.perf_counter()
+    n = len(robot.links)
+    cold = []
+    if jobs > 1 and (mesher is None or _picklable(mesher)):
+        work = {i: _meshing_work(robot, i, opts, mesher) for i in range(n)}
+        # the biggest first: the last link to finish is then a small one
+        cold = sorted((i for i in work if work[i] is not None), key=lambda i: -work[i])
+    if len(cold) < 2:
+        cold, jobs = [], 1
+    built = dict(zip(cold, run_jobs(build_link, [(robot, i, opts, cache, mesher) for i in cold],
+                                    jobs, progress), strict=True))
+    links = tuple(built[i] if i in built else build_link(robot, i, opts, cache, mesher, progress)
+                  for i in range(n))
+    log.info("built %s", robot.name)
+    return RobotBuild(links, time.perf_counter() - start, min(jobs, max(len(cold), 1)))
 
 
 def build_robot(robot: Robot, options: BuildOptions = BuildOptions(), cache: bool = True,
-                mesher: Mesher | None = None,
-                progress: Callable[[str], None] | None = None) -> tuple[LinkBuild, ...]:
-    """:func:`build_link` for every link, base first (a rigid base gives ``superelement=None``)."""
-    log.info("building %s (%s)", robot.name, options.method)
-    out = tuple(build_link(robot, i, options, cache, mesher, progress)
-                for i in range(len(robot.links)))
-    log.info("built %s", robot.name)
-    return out
+                mesher: Mesher | None = None, progress: Callable[[str], None] | None = None,
+                jobs: int | None = 1) -> tuple[LinkBuild, ...]:
+    """:func:`build_link` for every link, base first (a rigid base gives
+    ``superelement=None``): the links of :func:`robot_build`."""
+    return robot_build(robot, options, cache, mesher, progress, jobs).links

@@ -3,9 +3,10 @@
 Imports only :mod:`flexarm.fe`.
 """
 
+from .auto_mesher import SurfaceMesh, cached_surface_mesh, mesh_surface
 from .gmsh_mesher import tetrahedralize_gmsh
 from .hollow import HollowShell, hollow_surface
-from .pipeline import MESHERS, mesh_part, tetrahedralizer
+from .pipeline import MESHER_SETTINGS, MESHERS, mesh_part, tetrahedralizer
 from .primitives import bar_surface, cylinder_surface, hollow_link_surface, write_surface
 from .quality import QualityReport, dihedral_angles, mesh_quality, radius_ratios
 from .repair import check_surface, repair_surface
@@ -16,16 +17,20 @@ from .wall import bending_ratio, wall_for_mass
 
 __all__ = [
     "MESHERS",
+    "MESHER_SETTINGS",
+    "SurfaceMesh",
     "HollowShell",
     "QualityReport",
     "bar_surface",
     "bending_ratio",
+    "cached_surface_mesh",
     "check_surface",
     "cylinder_surface",
     "dihedral_angles",
     "hollow_link_surface",
     "hollow_surface",
     "load_surface",
+    "mesh_surface",
     "mesh_part",
     "mesh_quality",
     "radius_ratios",

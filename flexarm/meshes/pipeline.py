@@ -10,13 +10,14 @@ import numpy as np
 from ..fe.mesh import TetMesh
 from ..fe.typing import PathType
 from ..fe.units import length_factor
+from .auto_mesher import MESHER_SETTINGS, mesh_surface
 from .gmsh_mesher import tetrahedralize_gmsh
 from .quality import QualityReport, mesh_quality
 from .surface import load_surface
 from .tet_cache import MESHERS
 from .tetwild import tetrahedralize
 
-__all__ = ["mesh_part", "tetrahedralizer", "DEFAULT_SIZE_FRACTION", "MESHERS"]
+__all__ = ["mesh_part", "tetrahedralizer", "DEFAULT_SIZE_FRACTION", "MESHERS", "MESHER_SETTINGS"]
 
 logger = logging.getLogger(__name__)
 
@@ -27,15 +28,16 @@ DEFAULT_SIZE_FRACTION = 0.05
 def tetrahedralizer(mesher: str = "tetwild") -> Callable[..., TetMesh]:
     """The tetrahedralisation function of a ``mesher`` setting.
 
-    Both take ``(surface, size, optimize=, order=, cache=, name=, progress=)`` and
+    All take ``(surface, size, optimize=, order=, cache=, name=, progress=)`` and
     return a Tet4/Tet10 :class:`TetMesh`; their cache entries are never shared.
 
     Parameters
     ----------
-    mesher : {"tetwild", "gmsh"}
+    mesher : {"tetwild", "gmsh", "auto"}
         ``"tetwild"`` (pytetwild/fTetWild: robust on dirty CAD, not reproducible
-        between runs) or ``"gmsh"`` (deterministic: same input, same mesh; needs
-        a closed, clean surface and the optional ``gmsh`` package).
+        between runs), ``"gmsh"`` (deterministic: same input, same mesh; needs
+        a closed, clean surface and the optional ``gmsh`` package) or ``"auto"``
+        (Gmsh where the CAD allows, else fTetWild: :mod:`.auto_mesher`).
 
     Examples
     --------
@@ -46,7 +48,15 @@ def tetrahedralizer(mesher: str = "tetwild") -> Callable[..., TetMesh]:
         return tetrahedralize
     if mesher == "gmsh":
         return tetrahedralize_gmsh
-    raise ValueError(f"mesher must be one of {', '.join(map(repr, MESHERS))}, got {mesher!r}")
+    if mesher == "auto":
+        return _auto_mesh
+    raise ValueError(f"mesher must be one of {', '.join(map(repr, MESHER_SETTINGS))}, "
+                     f"got {mesher!r}")
+
+
+def _auto_mesh(surface, size: float, **options) -> TetMesh:
+    """The mesh of :func:`~flexarm.meshes.auto_mesher.mesh_surface` under ``"auto"``."""
+    return mesh_surface(surface, size, "auto", **options).mesh
 
 
 def mesh_part(
@@ -74,7 +84,7 @@ def mesh_part(
         Tet4 or Tet10.
     optimize, cache, progress
         As for :func:`~flexarm.meshes.tetwild.tetrahedralize`.
-    mesher : {"tetwild", "gmsh"}
+    mesher : {"tetwild", "gmsh", "auto"}
         Which tetrahedraliser (see :func:`tetrahedralizer`).
 
     Returns

@@ -73,8 +73,18 @@ def _run_tetwild(
             epsilon=tol.tet_envelope,
             vtk_ordering=True,  # without it every element is negatively oriented
             quiet=True,
+            num_threads=_threads(),
         )
     return np.asarray(points, dtype=np.float64), np.asarray(tets, dtype=np.int64)
+
+
+def _threads() -> int:
+    """fTetWild's threads: ``OMP_NUM_THREADS`` where set (a worker meshing beside others
+    has 1: one process per core), else every core (0)."""
+    try:
+        return max(0, int(os.environ.get("OMP_NUM_THREADS", "0")))
+    except ValueError:
+        return 0
 
 
 @contextlib.contextmanager

@@ -59,5 +59,16 @@ class Tolerances:
     #: away (the nanometre gaps of pieces read from float32 files).
     union_merge: float = 1e-6
 
+    #: Self-touching surfaces: an edge end nearer than this times the diagonal [-] to a
+    #: face it does not share counts as touching it.
+    self_intersection_gap: float = 1e-6
+    #: Self-touching surfaces: features of their union smaller than this times the
+    #: diagonal [-] are simplified away (the sliver where two sheets touched; 0.2 mm on a
+    #: 2 m link, far below any mesh size).
+    self_intersection_merge: float = 1e-4
+    #: Self-touching surfaces: a body united with itself may change its volume by this
+    #: fraction [-] (a rounding touch); more means it really crosses itself (dirty CAD).
+    self_intersection_volume: float = 1e-4
+
 
 tol = Tolerances()

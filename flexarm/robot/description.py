@@ -140,7 +140,8 @@ class Tool:
 @dataclass(frozen=True)
 class ModelOptions:
     """Element order (1|2), mesh size [m], Craig–Bampton mode count per link, and the
-    tetrahedraliser (``"tetwild"``, or ``"gmsh"``: the same CAD gives the same mesh)."""
+    tetrahedraliser (``"tetwild"``; ``"gmsh"``: the same CAD gives the same mesh; ``"auto"``,
+    the setting of imported robots: Gmsh where the CAD allows, fTetWild for dirty CAD)."""
 
     element_order: int = 1
     mesh_size: float = 0.03

@@ -30,7 +30,8 @@ class ImportedRobot:
     that set the tool (None: no ``tool0``/``flange``), the fixed links ``merged`` into
     each moving link and the ``derived`` meshes written per link; ``missing`` holds the
     :class:`~flexarm.robot.seat_review.MissingSeat` s (seats not found on the CAD, each
-    with its suggested region written for review)."""
+    with its suggested region written for review); ``mesh_estimate`` says how long
+    ``flexarm build`` will mesh the hollowed links (empty without hollowing)."""
 
     robot: Robot
     solid_mass: float
@@ -42,6 +43,7 @@ class ImportedRobot:
     stiffness: PlaceholderStiffness | None = None
     mass_note: str = ""
     missing: tuple = ()
+    mesh_estimate: str = ""
 
     @property
     def placeholder_joints(self) -> tuple[str, ...]:
@@ -75,8 +77,9 @@ class ImportedRobot:
             meshes += f" in {folders.pop()}"
         lines = [f"links: {', '.join(links)}; meshes: {meshes}",
                  f"joints: {', '.join(self.robot.joint_names)}", self._tool_line()]
-        if self.hollowing is not None:
+        if self.hollowing is not None:  # shells take more elements: say how long they take
             lines += self.hollowing.text().splitlines()
+            lines += [self.mesh_estimate] if self.mesh_estimate else []
         n_regions = sum(len(lk.regions) for lk in self.robot.links)
         if n_regions:
             n_review = sum(m.region is not None for m in self.missing)
@@ -187,7 +190,36 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
     robot, stiffness = sized_placeholders(robot, rule_mass, source, imported.effort)
     return ImportedRobot(robot, solid, mass, imported.tool_frame, imported.merged,
                          imported.derived, hollowing, stiffness,
-                         mass_line(imported.inertial_mass, solid, mass_kg), missing)
+                         mass_line(imported.inertial_mass, solid, mass_kg), missing,
+                         "" if hollowing is None else _mesh_estimate(robot))
+
+
+def _mesh_estimate(robot: Robot) -> str:
+    """One line: about how many tetrahedra ``flexarm build`` makes at the robot's mesh size
+    and how long that takes, one process per core (hollowed shells take more: their walls
+    get a layer of elements however thin)."""
+    from ..fe.errors import MeshError
+    from ..fe.processes import default_jobs
+    from ..meshes import load_surface
+    from ..meshes.auto_mesher import mesh_time_estimate
+
+    size, mesher = robot.options.mesh_size, robot.options.mesher
+    estimates = []
+    for lk in robot.links:
+        try:
+            surface = None if lk.mesh is None else load_surface(lk.mesh, units=lk.units)
+        except MeshError:  # said already, by the seat search
+            surface = None
+        if surface is not None:
+            estimates.append(mesh_time_estimate(surface, size, mesher))
+    if not estimates:
+        return ""
+    jobs = min(default_jobs(), len(estimates))
+    n = sum(e[0] for e in estimates)
+    seconds = max(sum(e[1] for e in estimates) / jobs, max(e[1] for e in estimates))
+    return (f"meshing estimate (`flexarm build`, {mesher}, {size * 1e3:g} mm edge): about "
+            f"{n:,.0f} tetrahedra in about {seconds:.0f} s on {jobs} "
+            f"process{'es' if jobs > 1 else ''}")
 
 
 def _seat_regions(robot: Robot) -> tuple[Robot, tuple]:

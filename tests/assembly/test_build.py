@@ -73,6 +73,7 @@ def test_gmsh_mesher_builds_reproducibly(box_robot, tmp_path):
 def test_unknown_mesher_is_refused(box_robot):
     import dataclasses
 
-    with pytest.raises(ValueError, match="model.mesher must be one of tetwild, gmsh, got 'netgen'"):
+    with pytest.raises(ValueError, match="model.mesher must be one of auto, tetwild, gmsh, "
+                                         "got 'netgen'"):
         dataclasses.replace(box_robot, options=dataclasses.replace(box_robot.options,
                                                                    mesher="netgen"))

@@ -45,7 +45,7 @@ import numpy as np
 
 from ...fe.errors import ReadError
 from ...fe.material import MATERIALS
-from ..description import Joint, Link, LumpedMass, Robot, Tool
+from ..description import Joint, Link, LumpedMass, ModelOptions, Robot, Tool
 from ..joints import JointModel
 from .urdf_meshes import Piece, merged_mesh, published, write_derived
 from .urdf_tree import UrdfTree, parse_tree, xyz_rpy
@@ -224,8 +224,9 @@ def _import(path: Path, tree: UrdfTree, meshes: str, material: str, folder: Path
     tool_frame, tool = _tool(tree, body_of, T)
     poses = {"home": [0.0] * len(joints)} if all(j.lower <= 0 <= j.upper
                                                    for j in joints) else {}
+    # "auto": Gmsh wherever the published CAD allows, so the same URDF gives the same model
     robot = Robot(tree.name, tuple(links), tuple(joints), tool=tool, poses=poses,
-                  source=path.resolve())
+                  options=ModelOptions(mesher="auto"), source=path.resolve())
     merged = {b: tuple(members[b][1:]) for b in names if len(members[b]) > 1}
     log.info("URDF %s: %d links, %d joints, %d derived meshes", path.name, len(links),
              len(joints), len(derived))
