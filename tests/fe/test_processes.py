@@ -75,7 +75,10 @@ def test_ctrl_c_stops_the_workers_and_leaves_nothing_half_written(tmp_path):
     """Waits for both workers to be inside their writes (a state, not a time), then
     interrupts the parent as Ctrl-C would."""
     script = (
-        "import sys\n"
+        "import signal, sys\n"
+        # a process started in the background inherits SIGINT ignored: Ctrl-C as a terminal
+        # gives it
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "from flexarm.fe.processes import run_jobs\n"
         "from tests.fe.test_processes import writes_forever\n"
         "try:\n"

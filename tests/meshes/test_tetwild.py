@@ -152,11 +152,16 @@ def test_ctrl_c_after_meshing_is_a_keyboard_interrupt(bar):
 
     from flexarm.meshes.tetwild import _run_tetwild
 
-    _run_tetwild(bar.vertices, bar.faces, 0.05, True)
-    with pytest.raises(KeyboardInterrupt):
-        os.kill(os.getpid(), signal.SIGINT)
-        # wait for the interrupt to arrive, however busy the machine (a killed run fails
-        # the suite; one that never arrives fails after ten minutes)
-        deadline = time.monotonic() + 600
-        while time.monotonic() < deadline:
-            time.sleep(0.01)
+    # a run started in the background inherits SIGINT ignored: Ctrl-C as a terminal gives it
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        _run_tetwild(bar.vertices, bar.faces, 0.05, True)
+        with pytest.raises(KeyboardInterrupt):
+            os.kill(os.getpid(), signal.SIGINT)
+            # wait for the interrupt to arrive, however busy the machine (a killed run
+            # fails the suite; one that never arrives fails after ten minutes)
+            deadline = time.monotonic() + 600
+            while time.monotonic() < deadline:
+                time.sleep(0.01)
+    finally:
+        signal.signal(signal.SIGINT, previous)
