@@ -166,4 +166,5 @@ def emodel(robot: Robot, method: str = "surface", mesh_size: float | None = None
     joints = tuple(j.emodel if equivalent and j.emodel is not None else j.model
                    for j in robot.joints)
     return ArmModel(chain, bodies, joints, robot.joint_names,
-                    "tcp", foundation, robot.base.damping_ratio, wrist, robot.joint_names)
+                    "tcp", foundation, robot.base.damping_ratio, wrist, robot.joint_names,
+                    np.column_stack([robot.lower, robot.upper]))

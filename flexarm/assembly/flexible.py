@@ -191,4 +191,5 @@ def flexible_arm(
     if coupled_wrist:
         wrist = coupled_wrist_stiffness(robot)
     return ArmModel(robot.chain, bodies, tuple(j.model for j in robot.joints), robot.joint_names,
-                    "tcp", foundation, robot.base.damping_ratio, wrist, robot.joint_names)
+                    "tcp", foundation, robot.base.damping_ratio, wrist, robot.joint_names,
+                    np.column_stack([robot.lower, robot.upper]))

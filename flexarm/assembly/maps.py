@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..fe.files import atomic_path
+from ..fe.files import atomic_path, writes_folder
 from ..fe.plotting import pyplot
 from ..fe.typing import ArrayLike, FloatArray
 from .analyses import natural_frequencies, tcp_compliance
@@ -288,6 +288,7 @@ def _heat(ax, m: JointSpaceMap, Z: FloatArray, is_log: bool):
     return pc
 
 
+@writes_folder()
 def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
     """Heat maps and (``surfaces``) 3-D surfaces (PNG) of K_xx, K_yy, K_zz and f1.
 
@@ -339,6 +340,7 @@ def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
     return out
 
 
+@writes_folder()
 def write_ratio(flex: JointSpaceMap, rigid: JointSpaceMap, folder) -> list[Path]:
     """How much the flexible links soften the arm: ``K_flex / K_rigid`` per direction on
     the common grid, as ``map_ratio.csv`` (``q<a>_deg, q<b>_deg, kxx_ratio, kyy_ratio,

@@ -23,14 +23,14 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ..fe.typing import ArrayLike, FloatArray
+from ..fe.typing import ArrayLike, FloatArray, IntArray
 from ..robot.joints import joint_basis
 from ..robot.kinematics import jacobian, link_frames, tcp_frame
 from .analyses import GRAVITY, tcp_compliance
 from .system import ArmModel
 
 __all__ = ["body_masses", "joint_moments", "joint_screws", "relative_deflection",
-           "series_starts"]
+           "series_starts", "distinct_poses"]
 
 
 def body_masses(arm: ArmModel) -> tuple[FloatArray, FloatArray]:
@@ -98,7 +98,8 @@ def joint_screws(arm: ArmModel, q: ArrayLike) -> FloatArray:
 
 def joint_moments(arm: ArmModel, q: ArrayLike, force: ArrayLike,
                   moment: ArrayLike | None = None, gravity: bool = True,
-                  extra_masses: Sequence[tuple[int, float, ArrayLike]] = ()) -> FloatArray:
+                  extra_masses: Sequence[tuple[int, float, ArrayLike]] = (),
+                  pose_index: ArrayLike | None = None) -> FloatArray:
     """Moment carried by each joint, in its joint basis (*batched*, statically exact).
 
     Parameters
@@ -112,6 +113,10 @@ def joint_moments(arm: ArmModel, q: ArrayLike, force: ArrayLike,
         Include the weight of the bodies (gravity along -z of the base frame).
     extra_masses : sequence of (body, mass [kg], position (3,) [m] in the link frame)
         Point masses added to bodies (e.g. a payload).
+    pose_index : (m,) int, optional
+        Load ``r`` (``force`` and ``moment`` (m, 3)) acts at pose ``q[pose_index[r]]``, ``q``
+        (p, n) holding the distinct poses (:func:`distinct_poses`): the kinematics are
+        computed once per pose, and the moments are bit for bit those of ``q`` repeated.
 
     Returns
     -------
@@ -124,24 +129,47 @@ def joint_moments(arm: ArmModel, q: ArrayLike, force: ArrayLike,
     q = np.asarray(q, dtype=float)
     F = link_frames(chain, q)
     p_tcp = tcp_frame(chain, q, F)[..., :3, 3]
-    force = np.broadcast_to(np.asarray(force, dtype=float), p_tcp.shape)
-    mom = np.zeros_like(p_tcp) if moment is None else np.broadcast_to(moment, p_tcp.shape)
+
+    def at(a):  # per pose -> per load
+        return a if pose_index is None else a[pose_index]
+
+    shape = at(p_tcp).shape
+    force = np.broadcast_to(np.asarray(force, dtype=float), shape)
+    mom = np.zeros(shape) if moment is None else np.broadcast_to(moment, shape)
     m, c = body_masses(arm)
     pts = [(i, float(m[i]), c[i]) for i in range(len(m))] if gravity else []
     pts += [(int(b), float(mm), np.asarray(p, float)) for b, mm, p in extra_masses]
     D = _distal(arm)
-    out = np.zeros(q.shape[:-1] + (chain.n_joints, 3))
+    out = np.zeros(shape[:-1] + (chain.n_joints, 3))
     carriers = set(chain.ancestors(chain.tcp_body))
     for j in range(chain.n_joints):
         pj = F[..., j + 1, :3, 3]
-        M = mom + np.cross(p_tcp - pj, force) if j in carriers else np.zeros_like(p_tcp)
+        M = mom + np.cross(at(p_tcp - pj), force) if j in carriers else np.zeros(shape)
         for i, mi, ci in pts:
             if D[j, i]:
                 ci_b = F[..., i, :3, :3] @ ci + F[..., i, :3, 3]
-                M = M + np.cross(ci_b - pj, mi * GRAVITY)
+                M = M + at(np.cross(ci_b - pj, mi * GRAVITY))
         E = F[..., j + 1, :3, :3] @ joint_basis(chain.axes[j])
-        out[..., j, :] = np.einsum("...ia,...i->...a", E, M)
+        out[..., j, :] = np.einsum("...ia,...i->...a", at(E), M)
     return out
+
+
+def distinct_poses(q: ArrayLike) -> tuple[FloatArray, IntArray]:
+    """The distinct rows of ``q`` (n, k) and the index of each row among them, as
+    ``np.unique(q, axis=0, return_inverse=True)`` gives them, fast when equal rows come in
+    runs (a static series holds one pose over its readings).
+
+    Examples
+    --------
+    >>> uq, inv = distinct_poses([[0, 1.0], [0, 1.0], [0, 0.5], [0, 1.0]])
+    >>> uq.tolist(), inv.tolist()
+    ([[0.0, 0.5], [0.0, 1.0]], [1, 1, 0, 1])
+    """
+    q = np.asarray(q, dtype=float)
+    new = np.ones(len(q), bool)
+    new[1:] = np.any(q[1:] != q[:-1], axis=1)
+    uq, inverse = np.unique(q[new], axis=0, return_inverse=True)
+    return uq, np.repeat(inverse.ravel(), np.diff(np.r_[np.flatnonzero(new), len(q)]))
 
 
 def series_starts(series: ArrayLike) -> np.ndarray:

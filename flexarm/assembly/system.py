@@ -60,6 +60,9 @@ class ArmModel:
         replaces their individual torsion springs.
     joint_names : tuple of str
         Labels for reports.
+    joint_limits : (n_joints, 2) float or None
+        Lower and upper joint angle [rad] (the robot's); analyses at a pose outside them
+        are refused (:meth:`check_pose`).  None: no limits.
     """
 
     chain: Chain
@@ -71,6 +74,7 @@ class ArmModel:
     foundation_damping: float = 0.02
     wrist_stiffness: FloatArray | None = None
     joint_names: tuple[str, ...] = ()
+    joint_limits: FloatArray | None = None
 
     def __post_init__(self) -> None:
         n = self.chain.n_joints
@@ -86,6 +90,40 @@ class ArmModel:
                 raise ValueError(f"wrist_stiffness must be (3, 3), got {W.shape}")
             if any(not np.isfinite(self.joints[j].torsion) for j in range(n - 3, n)):
                 raise ValueError("a coupled wrist needs finite torsion DOFs at the last 3 joints")
+        if self.joint_limits is not None:
+            limits = np.array(self.joint_limits, dtype=float)
+            if limits.shape != (n, 2):
+                raise ValueError(f"joint_limits must be ({n}, 2) [rad], got {limits.shape}")
+            limits.setflags(write=False)
+            object.__setattr__(self, "joint_limits", limits)
+
+    def check_pose(self, q: ArrayLike, what: str = "pose") -> None:
+        """Raise ``ValueError`` naming the joint, its angle and its limits [deg] when a
+        joint angle of ``q`` (n_joints,) [rad] is not finite or lies outside
+        :attr:`joint_limits`.
+
+        Examples
+        --------
+        >>> from flexarm.assembly.examples import two_link_arm
+        >>> import dataclasses
+        >>> arm = dataclasses.replace(two_link_arm(), joint_limits=[[-3, 3], [-1, 1]])
+        >>> arm.check_pose([0.0, 2.0])
+        Traceback (most recent call last):
+        ...
+        ValueError: pose: joint_2 = 114.592 deg is outside its limits [-57.2958, 57.2958] deg
+        """
+        q = np.asarray(q, dtype=float).reshape(-1, self.chain.n_joints)  # one or many
+        bad = ~np.isfinite(q)
+        if self.joint_limits is not None:
+            bad |= (q < self.joint_limits[:, 0]) | (q > self.joint_limits[:, 1])
+        hit = np.argwhere(bad)
+        if hit.size:
+            i, j = (int(k) for k in hit[0])
+            span = (" is not a finite angle" if self.joint_limits is None else
+                    " is outside its limits [" + ", ".join(
+                        f"{np.degrees(a):g}" for a in self.joint_limits[j]) + "] deg")
+            raise ValueError(f"{what}: {self.joint_names[j]} = {np.degrees(q[i, j]):g} deg"
+                             + span)
 
     # ----- layout of the independent coordinates x (pure bookkeeping, cached)
     @property

@@ -11,6 +11,9 @@ __all__ = ["Tolerances", "tol"]
 class Tolerances:
     #: Unit-quaternion check of RAPID robtargets (they are printed to ~1e-4..1e-9).
     quaternion_norm: float = 1e-4
+    #: Deepest bracket nesting read in a RAPID value [-] (a tooldata aggregate nests 3
+    #: deep): deeper is refused on its line, before it could exhaust the stack.
+    rapid_max_nesting: int = 32
     #: Three points are collinear when the triangle area is below this times ``|a| |b|``.
     collinear: float = 1e-9
     #: Below this angle [rad] SLERP falls back to normalised linear interpolation.

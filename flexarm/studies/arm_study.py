@@ -41,7 +41,7 @@ from ..assembly.analyses import natural_frequencies, tcp_compliance
 from ..assembly.build import BuildOptions, LinkBuild, Mesher, build_robot, link_mesh, link_mesh_id
 from ..assembly.flexible import flexible_arm
 from ..fe.cache import cache_key, cached
-from ..fe.files import atomic_path
+from ..fe.files import atomic_folder, atomic_path
 from ..fe.text import eta_text
 from ..fe.typing import FloatArray
 from ..robot.description import Robot
@@ -349,8 +349,6 @@ def write_study(result: StudyResult, out_dir) -> tuple[Path, ...]:
     """Write ``arm_study.csv``, the two PNGs and ``arm_study_verdict.txt`` to ``out_dir``,
     with ``arm_study_mesh_error.csv`` (per-mode Tet4 / Tet10 frequencies) after a Tet10
     check (all or none: they are written aside and moved in together)."""
-    from .demo_folder import atomic_folder
-
     final = Path(out_dir)
     with atomic_folder(final) as out:
         files = _write_study(result, out)

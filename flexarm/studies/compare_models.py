@@ -22,7 +22,7 @@ from ..assembly.build import BuildOptions, Mesher, build_robot
 from ..assembly.emodel import emodel
 from ..assembly.flexible import flexible_arm
 from ..assembly.full_fe import full_fe_analysis, full_fe_bodies
-from ..fe.files import atomic_path
+from ..fe.files import atomic_path, writes_folder
 from ..fe.plotting import pyplot
 from ..fe.typing import FloatArray
 from ..robot.description import Robot, pose_from_string
@@ -123,6 +123,7 @@ class ComparisonReport:
         return "\n".join(lines)
 
 
+@writes_folder("out")
 def _write(report: ComparisonReport, out: Path, poses: list[str]) -> tuple[Path, ...]:
     """``model_comparison.csv`` (:meth:`ComparisonReport.rows`), the Bode magnitudes
     behind the plot in ``model_comparison_bode.csv`` (pose, model, ``freq_Hz``,

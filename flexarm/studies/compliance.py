@@ -140,7 +140,12 @@ def compliance_report(arm: ArmModel, q: ArrayLike, force: float = 800.0) -> Comp
     ('y', 6.2)
     >>> rep.to_dataframe().set_index("direction")["deflection_mm"].round(1).tolist()
     [0.1, 6.2, 1.5]
+    >>> compliance_report(emodel(robot), np.radians([0, 260, 0, 0, 0, 0]))
+    Traceback (most recent call last):
+    ...
+    ValueError: pose: joint_2 = 260 deg is outside its limits [-90, 150] deg
     """
+    arm.check_pose(q)  # as the command line checks --pose
     C = tcp_compliance(arm, q)
     ident = identify_stiffness(arm, q, force * np.eye(3))
     return ComplianceReport(C, float(force), ident.K_full, ident.K_diag, ident.error_diag,

@@ -15,7 +15,7 @@ import logging
 import time
 from pathlib import Path
 
-from .demo_folder import atomic_folder
+from ..fe.files import atomic_folder
 from .demo_measurements import measurement_step
 from .demo_models import emodel_step, flexible_step
 from .demo_part import part_step
@@ -37,7 +37,7 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     ----------
     folder : path-like
         Output folder (created).  Everything is written into a temporary sibling folder
-        and moved in when the run is complete (:func:`~flexarm.studies.demo_folder.
+        and moved in when the run is complete (:func:`~flexarm.fe.files.
         atomic_folder`); other files already in ``folder`` are kept.
     progress : callable, optional
         Receives one line per step (from a helper thread while a worker runs).

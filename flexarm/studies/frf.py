@@ -9,7 +9,7 @@ import numpy as np
 
 from ..assembly.analyses import frf
 from ..assembly.system import ArmModel
-from ..fe.files import atomic_path
+from ..fe.files import atomic_path, writes_folder
 from ..fe.typing import ArrayLike, FloatArray
 from .plots import plot_frf
 
@@ -53,6 +53,7 @@ class FrfReport:
                   for d, (name, f, h) in enumerate(self.peaks())]
         return "\n".join(lines)
 
+    @writes_folder()
     def write(self, folder) -> list[Path]:
         """``frf_bode.png`` and ``frf.csv`` in ``folder``.
 

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..fe.files import atomic_path, writes_folder
 from ..fe.plotting import pyplot, save_figure
 from ..fe.typing import FloatArray
 from ..fe.units import RECEPTANCE_SCALE, RECEPTANCE_UNIT
@@ -33,12 +34,11 @@ def plot_frf(path, freq_hz: FloatArray, H: FloatArray, title: str = "") -> Path:
     return save_figure(fig, path, dpi=100, tight=False)
 
 
+@writes_folder()
 def write_mode_energy(folder, freq_hz: FloatArray, energy: FloatArray, joint_names,
                       title: str = "") -> list[Path]:
     """``mode_energy.csv`` (mode, ``f_Hz``, energy share per joint [-]) and
     ``mode_energy.png`` (:func:`plot_mode_energy`, the same numbers) in ``folder``."""
-    from ..fe.files import atomic_path
-
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     csv = folder / "mode_energy.csv"

@@ -24,7 +24,7 @@ import numpy as np
 
 from ..assembly.build import link_mesh, link_regions
 from ..fe.errors import FlexarmError
-from ..fe.files import atomic_path
+from ..fe.files import atomic_path, writes_folder
 from ..fe.typing import FloatArray, IntArray
 from ..reduction.interfaces import CylinderRegion, check_spread, interfaces, select_region
 from ..robot.description import Robot
@@ -129,6 +129,7 @@ class RegionsResult:
             lines += ["", pairs_text(self.pairs)]
         return "\n".join(lines)
 
+    @writes_folder("out_dir")
     def write(self, out_dir, window_size=(1024, 768)) -> list[Path]:
         """``regions.csv`` and ``regions_<link>.png`` per link in ``out_dir``."""
         from ..reduction.render import render_backend

@@ -103,5 +103,19 @@ class Tolerances:
     #: a 10x typo or another circle of the module lies decimetres away).
     path_max_offset: float = 0.01
 
+    #: Comparison reports: readings a picture draws one by one; past this it bins them
+    #: (deflection bands per load level, a density of residual against torque), so that a
+    #: million readings draw in seconds and make a readable picture of a few hundred kB.
+    plot_max_points: int = 10_000
+    #: Comparison reports: panels of the deflection picture (one per series up to this,
+    #: else one per pose and load direction, as many at most).
+    plot_max_panels: int = 36
+    #: Comparison reports: load bins of a binned deflection panel, and density bins per
+    #: axis of the residual picture.
+    plot_bins: int = 40
+    #: Comparison text: series printed one by one up to this, else one row per pose and
+    #: load direction (every series stays in ``errors.csv``).
+    table_max_rows: int = 60
+
 
 tol = Tolerances()

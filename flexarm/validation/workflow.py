@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..fe.typing import PathType
-from ..robot.description import Robot
+from ..robot.description import Robot, check_limits
 from ..robot.formats import write as write_robot_file
 from .data.formats import UffOptions, read_measurements
 from .data.formats.csv_frf import check_lines
@@ -37,13 +37,30 @@ Measurements = StaticData | ModalData | FrfData | PathData
 
 def _read(data: Measurements | PathType, robot: Robot | None = None,
           uff: UffOptions | None = None) -> Measurements:
-    """``data`` as read; a file's joint angles are checked against ``robot``'s limits."""
+    """``data`` as read; its joint angles are checked against ``robot``'s limits (a
+    file's by the reader, naming file, line and column)."""
     if isinstance(data, Measurements):
+        _check_limits(data, robot)
         return data
     limits = None
     if robot is not None and len(robot.joints) == 6:  # the schemas carry q1..q6
         limits = np.column_stack([robot.lower, robot.upper])
     return read_measurements(data, limits=limits, uff=uff)
+
+
+def _check_limits(data: Measurements, robot: Robot | None) -> None:
+    """Raise ``ValueError`` naming the first reading, its series or pose, and the joint
+    whose angle lies outside ``robot``'s limits (as a file's reader does)."""
+    q = getattr(data, "q", None)
+    if robot is None or q is None or np.shape(q)[1:] != (len(robot.joints),):
+        return
+    bad = np.flatnonzero(np.any(~np.isfinite(q) | (q < robot.lower) | (q > robot.upper),
+                                axis=1))
+    if bad.size:
+        i = int(bad[0])
+        labels = getattr(data, "series", getattr(data, "poses", None))
+        owner = "" if labels is None else f" of '{labels[i]}'"
+        check_limits(robot, q[i], f"{type(data).__name__} reading {i + 1}{owner}")
 
 
 def compare(data: Measurements | PathType, robot: Robot | PathType | None = None,

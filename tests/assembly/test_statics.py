@@ -148,3 +148,18 @@ def test_relative_deflection_with_laws_by_hand():
     uy = 2 * L * (tau1 / K1 + hard.deflection(tau1)) + L * tau2 / K2
     assert d2[3, 1] == pytest.approx(uy, rel=1e-12)
     np.testing.assert_array_equal(d2[[0, 2]], 0.0)
+
+
+def test_moments_per_distinct_pose_are_bit_for_bit_those_of_repeated_poses():
+    from flexarm.assembly.statics import distinct_poses
+
+    arm = two_link_arm()
+    rng = np.random.default_rng(4)
+    q = np.repeat(rng.uniform(-1, 1, (5, 2)), rng.integers(1, 9, 5), axis=0)
+    q = np.r_[q, q[:3]]  # a pose again after others
+    force, moment = rng.normal(size=(len(q), 3)) * 100, rng.normal(size=(len(q), 3))
+    uq, index = distinct_poses(q)
+    ref_uq, ref_index = np.unique(q, axis=0, return_inverse=True)
+    assert uq.tobytes() == ref_uq.tobytes() and index.tolist() == ref_index.ravel().tolist()
+    by_pose = joint_moments(arm, uq, force, moment, pose_index=index)
+    assert by_pose.tobytes() == joint_moments(arm, q, force, moment).tobytes()

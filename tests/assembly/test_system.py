@@ -1,6 +1,8 @@
 import dataclasses
+import re
 
 import numpy as np
+import pytest
 
 from flexarm.assembly.analyses import modes, tcp_compliance
 from flexarm.assembly.bodies import Body, rigid_transport
@@ -92,3 +94,16 @@ def test_flexible_body_in_assembly():
 def test_rigid_transport():
     A = rigid_transport([1.0, 0, 0])
     assert np.allclose(A @ [0, 0, 0, 0, 0, 1.0], [0, 1, 0, 0, 0, 1])
+
+
+def test_a_pose_outside_the_joint_limits_is_refused_naming_the_joint():
+    arm = dataclasses.replace(two_link_arm(), joint_limits=np.radians([[-170, 170], [-90, 90]]))
+    arm.check_pose(np.radians([10, 90]))  # on the limit
+    for q, text in (([0, 95], "joint_2 = 95 deg is outside its limits [-90, 90] deg"),
+                    ([[0, 0], [-171, 0]], "joint_1 = -171 deg is outside its limits")):
+        with pytest.raises(ValueError, match=re.escape(f"pose: {text}")):
+            arm.check_pose(np.radians(q))
+    with pytest.raises(ValueError, match="joint_1 = nan deg is not a finite angle"):
+        two_link_arm().check_pose([np.nan, 0])
+    with pytest.raises(ValueError, match=re.escape("joint_limits must be (2, 2)")):
+        dataclasses.replace(two_link_arm(), joint_limits=[[0, 1]])

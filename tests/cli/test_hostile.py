@@ -612,12 +612,14 @@ def test_vectorised_column_parse_is_bit_for_bit_the_exact_parser(unit):
 
 
 def test_twenty_thousand_static_rows_are_read_column_by_column(tmp_path, monkeypatch):
-    """Every real column of a large clean file goes through the vectorised parser, none
-    falls back to the cell-by-cell one (17 s for 1e5 rows before; the time itself is
-    ``benchmarks/io.py``'s, not a test's)."""
+    """A large clean file is split by the byte scan and every column converted in bulk:
+    neither the line-by-line reader nor the cell-by-cell parser runs (17 s for 1e5 rows
+    before; the time itself is ``benchmarks/io.py``'s, not a test's)."""
     import numpy as np
 
     from flexarm.validation import read_measurements
+    from flexarm.validation.data import decimals
+    from flexarm.validation.data.formats import _cells
 
     head = [ln for ln in STATIC.read_text().splitlines()
             if ln.startswith("#") or ln.startswith("series")]
@@ -626,19 +628,12 @@ def test_twenty_thousand_static_rows_are_read_column_by_column(tmp_path, monkeyp
     rows = [f"s{i // 10}, {i % 10}, 0, 52, -19, 12, -15, -11, 0, {20 * (i % 10)}, 0, "
             f"{a:.4f}, {b:.4f}, {c:.4f}, 0.015" for i, (a, b, c) in enumerate(d)]
     path = tmp_path / "big.csv"
-    path.write_text("\n".join(head + rows) + "\n")
-    from flexarm.validation.data.formats import _table
+    path.write_text("# Messung in µm-Auflösung\n" + "\r\n".join(head + rows) + "\r\n")
 
-    fell_back = []
+    def one_by_one(*args):
+        raise AssertionError("read one by one")
 
-    def counted(texts, factor):
-        values = vectorised(texts, factor)
-        if values is None:
-            fell_back.append(len(texts))
-        return values
-
-    vectorised = _table.parse_decimal_column
-    monkeypatch.setattr(_table, "parse_decimal_column", counted)
+    monkeypatch.setattr(_cells, "records", one_by_one)
+    monkeypatch.setattr(decimals, "cell_text", one_by_one)
     data = read_measurements(path)
-    assert fell_back == []
     assert data.disp.shape == (20_000, 3) and data.disp[5, 1] == float(f"{d[5, 1]:.4f}e-3")

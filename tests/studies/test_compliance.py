@@ -58,3 +58,9 @@ def test_csv_has_one_unit_per_column_and_the_whole_matrix(report, tmp_path):
         assert name.endswith("_" + units[kind]), name
     C = np.block([[rows[:, 0:3], rows[:, 6:9]], [rows[:, 3:6], rows[:, 9:12]]])
     np.testing.assert_allclose(C, report.C, rtol=1e-9, atol=0)
+
+
+def test_a_pose_outside_the_limits_is_refused_as_on_the_command_line():
+    robot = load_robot()
+    with pytest.raises(ValueError, match=r"pose: joint_3 = -200 deg is outside its limits"):
+        compliance_report(emodel(robot), np.radians([0, 20, -200, 0, 0, 0]))

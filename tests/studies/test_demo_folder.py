@@ -6,8 +6,9 @@ import os
 
 import pytest
 
-from flexarm.studies import demo, demo_folder
-from flexarm.studies.demo_folder import atomic_folder
+from flexarm.fe import files
+from flexarm.fe.files import atomic_folder
+from flexarm.studies import demo
 from flexarm.studies.demo_results import StepResult
 
 
@@ -29,7 +30,7 @@ def test_complete_output_replaces_same_names_keeps_others_index_last(tmp_path, m
         order.append(os.path.basename(dst))
         return real(src, dst)
 
-    monkeypatch.setattr(demo_folder.os, "replace", replace)
+    monkeypatch.setattr(files.os, "replace", replace)
     with atomic_folder(out, last="index.md") as tmp:
         (tmp / "maps").mkdir()
         (tmp / "maps" / "new.png").write_text("new map")

@@ -188,3 +188,17 @@ def test_angles_outside_the_robots_limits_name_file_line_and_column(tmp_path, de
         with pytest.raises(ReadError, match=r"bad\.csv.*line.*q2.*outside the limits") as exc:
             run(bad, demo[0])
         assert "\n" not in str(exc.value)
+
+
+@pytest.mark.parametrize("kind", ["static", "modal"])
+def test_api_data_outside_the_joint_limits_name_the_reading_and_joint(kind):
+    """Data given as objects are checked as files are (the reader names file and line)."""
+    import dataclasses
+
+    data = read_measurements(example_path(kind))
+    q = np.array(data.q)
+    q[3, 1] = np.radians(-95.0)
+    label = (data.series if kind == "static" else data.poses)[3]
+    with pytest.raises(ValueError, match=f"{type(data).__name__} reading 4 of '{label}': "
+                                         r"joint_2 = -95 deg is outside its limits \[-90, 150\]"):
+        compare(dataclasses.replace(data, q=q))

@@ -7,6 +7,7 @@ char, ``q_rad`` the pose, ``units`` ``'SI'`` and ``description`` one line saying
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
@@ -24,13 +25,34 @@ def _cell(strings) -> np.ndarray:
     return out
 
 
+#: The 116-byte text field of the file header: fixed, where scipy writes the time of
+#: writing, so that the same model gives the same bytes on every run.
+HEADER_TEXT = b"MATLAB 5.0 MAT-file, written by flexarm (state-space model of an arm)".ljust(116)
+
+
 def write(path, ss: ArmStateSpace) -> None:
-    """Write ``ss`` to ``path`` (.mat) atomically."""
+    """Write ``ss`` to ``path`` (.mat) atomically; the same model gives the same bytes.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from flexarm.assembly.examples import two_link_arm
+    >>> from flexarm.assembly.state_space import state_space
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> write(out / "a.mat", state_space(two_link_arm(), [0.0, 0.5]))
+    >>> write(out / "b.mat", state_space(two_link_arm(), [0.0, 0.5]))
+    >>> (out / "a.mat").read_bytes() == (out / "b.mat").read_bytes()
+    True
+    """
     from scipy.io import savemat
 
     data = {k: (_cell(v) if isinstance(v, list) else v) for k, v in to_arrays(ss).items()}
+    buf = io.BytesIO()
+    savemat(buf, data, do_compression=False, oned_as="column")
+    raw = bytearray(buf.getvalue())
+    raw[:len(HEADER_TEXT)] = HEADER_TEXT
     with atomic_path(path) as tmp:
-        savemat(tmp, data, do_compression=False, oned_as="column")
+        tmp.write_bytes(bytes(raw))
 
 
 def _strings(cell) -> list[str]:

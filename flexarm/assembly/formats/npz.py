@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ...fe.errors import ReadError
-from ...fe.files import atomic_path
+from ...fe.files import atomic_path, write_npz
 from ..state_space import ArmStateSpace, from_arrays, to_arrays
 
 __all__ = ["read", "write"]
@@ -16,8 +16,8 @@ __all__ = ["read", "write"]
 def write(path, ss: ArmStateSpace) -> None:
     """Write ``ss`` to ``path`` (.npz) atomically; names become unicode arrays."""
     data = {k: np.asarray(v) for k, v in to_arrays(ss).items()}
-    with atomic_path(path) as tmp, open(tmp, "wb") as f:
-        np.savez(f, **data)
+    with atomic_path(path) as tmp:
+        write_npz(tmp, data)
 
 
 def read(path) -> ArmStateSpace:

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ...fe.errors import ReadError
-from ...fe.files import atomic_path
+from ...fe.files import atomic_path, write_npz
 from ..superelement import Superelement, from_arrays, to_arrays
 from ._checksum import content_checksum, verify_checksum
 
@@ -26,10 +26,7 @@ def write(path, se: Superelement) -> None:
     """Write ``se`` to ``path`` (.npz) atomically; strings become unicode arrays."""
     data = {k: np.asarray(v) for k, v in to_arrays(se).items()}
     with atomic_path(path) as tmp:
-        with open(tmp, "wb") as f:
-            np.savez(f, **data)
-        with zipfile.ZipFile(tmp, "a") as z:
-            z.comment = (_TAG + content_checksum(data)).encode()
+        write_npz(tmp, data, (_TAG + content_checksum(data)).encode())
 
 
 def read(path) -> Superelement:

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import logging
+from collections import ChainMap
+from collections.abc import Iterable
 from typing import Any
 
 from .rapid_data import (
@@ -22,12 +24,16 @@ from .rapid_values import _tuples, _ValueParser
 logger = logging.getLogger(__name__)
 
 _N_TARGETS = {"MoveL": 1, "MoveJ": 1, "MoveC": 2, "MoveAbsJ": 1}
+_KINDS = {k.lower(): k for k in SUPPORTED_INSTRUCTIONS}
+#: instruction -> lower-case optional argument -> its name as RAPID spells it
+_OPTIONS = {kind: {k.lower(): k for k in allowed} for kind, (_, allowed) in _SIGNATURES.items()}
 
 
 class _Parser(_ValueParser):
     """Recursive descent over the token list; ``scope`` maps lower-case names to values."""
 
-    def __init__(self, toks: list[_Tok], file: str, scope: dict[str, Any], ignore: set[str]):
+    def __init__(self, toks: Iterable[_Tok], file: str, scope: ChainMap | dict[str, Any],
+                 ignore: set[str]):
         super().__init__(toks, file, scope)
         self.ignore = ignore
 
@@ -43,6 +49,7 @@ class _Parser(_ValueParser):
         joint_targets: dict[str, JointTarget] = {}
         data: dict[str, Declaration] = {}
         procs: dict[str, Procedure] = {}
+        proc_names: set[str] = set()
         while True:
             tok = self.peek()
             if tok.kind == "eof":
@@ -70,9 +77,10 @@ class _Parser(_ValueParser):
                     data[decl.name] = decl
             elif word == "PROC":
                 proc = self.procedure()
-                if proc.name.lower() in {p.lower() for p in procs}:
+                if proc.name.lower() in proc_names:
                     raise self.error(f"PROC '{proc.name}' is defined twice", proc.line)
                 procs[proc.name] = proc
+                proc_names.add(proc.name.lower())
             elif word in ("FUNC", "TRAP"):
                 self.skip_routine(word)
             else:
@@ -132,7 +140,7 @@ class _Parser(_ValueParser):
             raise self.error(f"PROC {name}: procedures with parameters are not supported")
         self.expect(")")
         outer = self.scope
-        self.scope = dict(outer)  # routine data shadow module data
+        self.scope = ChainMap({}, outer)  # routine data shadow module data (no copy of it)
         motions: list[Motion] = []
         local: set[str] = set()
         while True:
@@ -163,7 +171,7 @@ class _Parser(_ValueParser):
         if self.peek().text == ":=":
             raise self.error(f"unsupported statement: assignment to '{tok.text}' (supported "
                              f"instructions: {', '.join(SUPPORTED_INSTRUCTIONS)})", tok.line)
-        kinds = {k.lower(): k for k in SUPPORTED_INSTRUCTIONS}
+        kinds = _KINDS
         if tok.text.lower() in self.ignore:
             while self.next().text != ";":
                 if self.peek().kind == "eof":
@@ -230,7 +238,7 @@ class _Parser(_ValueParser):
         if len(positional) != len(names):
             raise self.error(f"{kind} expects {len(names)} arguments ({', '.join(names)}), "
                              f"got {len(positional)}", line)
-        allowed_l = {k.lower(): k for k in allowed}
+        allowed_l = _OPTIONS[kind]
         wobj = None
         options: list[tuple[str, str | None]] = []
         for opt, value, _after in optional:

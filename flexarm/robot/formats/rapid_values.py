@@ -8,6 +8,7 @@ small helpers at the end format values back to RAPID text.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -25,9 +26,10 @@ _JOINTTARGET_FORM = "[[rax_1,...,rax_6],[eax_a,...,eax_f]]"
 class _ValueParser(_TokenStream):
     """Expression evaluation; ``scope`` maps lower-case data names to their values."""
 
-    def __init__(self, toks: list[_Tok], file: str, scope: dict[str, Any]):
+    def __init__(self, toks: Iterable[_Tok], file: str, scope: Mapping[str, Any]):
         super().__init__(toks, file)
         self.scope = scope
+        self.depth = 0  # brackets open around the current factor
 
     def robtarget(self, name: str, value: Any, line: int) -> RobTarget:
         if isinstance(value, RobTarget):
@@ -86,27 +88,38 @@ class _ValueParser(_TokenStream):
         return a / b
 
     def factor(self) -> Any:
-        tok = self.next()
-        if tok.text in ("-", "+") and tok.kind == "op":
-            value = self.factor()
+        signs = []  # unary signs, read in a loop: a chain of them is no recursion
+        while self.peek().text in ("-", "+") and self.peek().kind == "op":
+            signs.append(self.next())
+        value = self._operand()
+        for tok in reversed(signs):
             if not isinstance(value, float):
                 raise self.error(f"unary '{tok.text}' needs a number", tok.line)
-            return -value if tok.text == "-" else value
+            value = -value if tok.text == "-" else value
+        return value
+
+    def _operand(self) -> Any:
+        tok = self.next()
         if tok.kind == "num":
             return float(tok.text)
         if tok.kind == "str":
             return tok.text[1:-1].replace('""', '"')
-        if tok.text == "(":
-            value = self.expression()
-            self.expect(")")
+        if tok.text in ("(", "[") and tok.kind == "op":
+            self.depth += 1
+            if self.depth > tol.rapid_max_nesting:  # RAPID data nest 3 deep at most
+                raise self.error(f"brackets nested more than {tol.rapid_max_nesting} deep "
+                                 "(RAPID aggregates nest a few levels)", tok.line)
+            if tok.text == "(":
+                value = self.expression()
+                self.expect(")")
+            else:
+                value = [self.expression()]
+                while self.peek().text == ",":
+                    self.next()
+                    value.append(self.expression())
+                self.expect("]", " to close the aggregate")
+            self.depth -= 1
             return value
-        if tok.text == "[":
-            items = [self.expression()]
-            while self.peek().text == ",":
-                self.next()
-                items.append(self.expression())
-            self.expect("]", " to close the aggregate")
-            return items
         if tok.kind == "name":
             upper = tok.text.upper()
             if upper in ("TRUE", "FALSE"):
@@ -128,7 +141,10 @@ class _ValueParser(_TokenStream):
                              f"(supported: {', '.join(_FUNCTIONS)})", func.line)
         fname = names[func.text.lower()]
         self.expect("(")
-        start = self.i
+        self.depth += 1
+        if self.depth > tol.rapid_max_nesting:
+            raise self.error(f"calls nested more than {tol.rapid_max_nesting} deep", func.line)
+        self.record()
         args = [self.expression()]
         opts: dict[str, float] = {}
         while self.peek().text in (",", "\\"):
@@ -138,8 +154,9 @@ class _ValueParser(_TokenStream):
                 opts[opt.lower()] = self.expression()
             else:
                 args.append(self.expression())
-        text = " ".join(t.text for t in self.toks[start:self.i])
+        text = " ".join(t.text for t in self.recorded())
         self.expect(")", f" to close {fname}(")
+        self.depth -= 1
         if (len(args) != 4 or not isinstance(args[0], RobTarget)
                 or not all(isinstance(a, float) for a in args[1:])):
             raise self.error(f"{fname} expects (robtarget, dx, dy, dz)", func.line)

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ...assembly.system import ArmModel
+from ...fe.files import writes_folder
 from ...fe.typing import ArrayLike, FloatArray
 from .chatter import ChatterResult, analyse, cnc_model, plane_model, process_vectors, simulate
 from .chatter_map import ChatterMap, critical_kcb, worst_normal
@@ -93,6 +94,7 @@ class ChatterStudy:
         past = np.maximum.accumulate(amp > ORBIT_LIMIT, axis=1)
         return np.where(past[..., None], np.nan, self.x)
 
+    @writes_folder()
     def write(self, folder, label: str = "") -> list[Path]:
         """``chatter_time.csv`` (``t_s`` and the plane coordinates ``<run>_x1_m``,
         ``<run>_x2_m`` of :meth:`shown`), ``chatter_time.png`` (time histories) and
@@ -169,6 +171,7 @@ def run_chatter(arm: ArmModel, q: ArrayLike, kcb: float, dir_deg: float = 30.0,
                         np.stack([x for _t, x in sims]))
 
 
+@writes_folder()
 def write_chatter_map(folder, cm: ChatterMap, label: str = "") -> list[Path]:
     """``chatter_map.csv`` (:meth:`ChatterMap.write_csv`) and ``chatter_map.png`` (heat map
     of the limit over q2, q3, ``label`` naming model and pose) in ``folder`` (created)."""

@@ -20,6 +20,7 @@ import numpy as np
 
 from ...assembly.arm import ArmSpec, build_arm
 from ...assembly.effects import apply_effects
+from ...fe.files import writes_folder
 from ...fe.typing import ArrayLike, FloatArray
 from ...robot.formats.rapid import read_rapid
 from ...validation import PathData, StaticData, read_measurements
@@ -110,6 +111,7 @@ class CircleResult:
                          f"max |bar| {np.abs(bar).max() * 1e3:.4f} mm")
         return "\n".join(lines)
 
+    @writes_folder()
     def write(self, folder) -> list[Path]:
         """``circle_<procedure>.csv`` (:func:`~flexarm.studies.contact.circle_data.
         write_circle_csv`), ``circle_top.png``, ``circle_polar.png`` and ``circle_z.png``

@@ -30,7 +30,7 @@ import numpy as np
 from ... import __version__
 from ...assembly.analyses import natural_frequencies
 from ...assembly.arm import Arm
-from ...fe.files import atomic_path
+from ...fe.files import atomic_path, write_npz
 from ...fe.typing import ArrayLike, FloatArray, IntArray
 from ...robot.joints import joint_basis
 from ...robot.kinematics import link_frames
@@ -213,8 +213,8 @@ def write_standalone(path, arm: Arm, q: ArrayLike, pose: str = "",
     for name, link in zip(sa.link_files, links, strict=True):
         if link is not None:
             written.append(_write_link(path.with_name(str(name)), link))
-    with atomic_path(written[1]) as tmp, open(tmp, "wb") as f:
-        np.savez(f, **asdict(sa))
+    with atomic_path(written[1]) as tmp:
+        write_npz(tmp, asdict(sa))
     with atomic_path(path) as tmp:
         tmp.write_text(standalone_script(written[1].name, sa.info, sa.gravity))
     return written

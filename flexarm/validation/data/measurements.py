@@ -39,7 +39,7 @@ def _array(obj, name: str, value, dtype, tail: tuple[int, ...], n: int | None,
         if optional:
             return n
         raise ValueError(f"{type(obj).__name__}.{name} is required")
-    arr = np.array(value, dtype=dtype)
+    arr = value if _read_only(value, dtype) else np.array(value, dtype=dtype)
     expected = str(("n",) + tail if n is None else (n,) + tail).replace("'", "")
     if arr.ndim != 1 + len(tail) or arr.shape[1:] != tail or (n is not None and len(arr) != n):
         raise ValueError(f"{type(obj).__name__}.{name} must have shape "
@@ -51,15 +51,38 @@ def _array(obj, name: str, value, dtype, tail: tuple[int, ...], n: int | None,
     return len(arr)
 
 
+#: Code points ``str.strip`` removes (blanks and line breaks of any script).
+_BLANKS = np.array([c for c in range(0x3001) if chr(c).isspace()], dtype=np.uint32)
+
+
+def _read_only(value, dtype) -> bool:
+    """``value`` is an array of ``dtype`` that nothing can write to (the file readers'
+    columns): shared, not copied (a million rows are hundreds of MB)."""
+    base = value
+    while isinstance(base, np.ndarray):
+        if base.flags.writeable:
+            return False
+        base = base.base
+    return isinstance(value, np.ndarray) and value.dtype == np.dtype(dtype)
+
+
 def _labels(obj, name: str, value, n: int | None) -> int:
     """Labels: non-empty strings, no surrounding blanks, no line breaks, no leading '#'."""
-    n = _array(obj, name, [str(v) for v in np.asarray(value).ravel()]
-               if value is not None else None, np.str_, (), n)
-    for label in getattr(obj, name).tolist():
-        if (not label or label != label.strip() or label.startswith("#")
-                or "\n" in label or "\r" in label):
-            raise ValueError(f"{type(obj).__name__}.{name}: label {label!r} must be non-empty, "
-                             "without surrounding blanks or line breaks, not starting with '#'")
+    if value is not None:
+        value = np.asarray(value)
+        value = value.ravel() if value.dtype.kind == "U" else [str(v) for v in value.ravel()]
+    n = _array(obj, name, value, np.str_, (), n)
+    labels = getattr(obj, name)
+    # checked on the code points, a million labels at once (a trailing NUL is no character)
+    codes = labels.view(np.uint32).reshape(len(labels), -1)
+    last = np.maximum(np.count_nonzero(codes, axis=1) - 1, 0)
+    wrong = ((codes[:, 0] == 0) | (codes[:, 0] == ord("#")) | np.isin(codes[:, 0], _BLANKS)
+             | np.isin(codes[np.arange(len(codes)), last], _BLANKS)
+             | ((codes == 10) | (codes == 13)).any(axis=1))
+    if wrong.any():
+        label = str(labels[np.argmax(wrong)])
+        raise ValueError(f"{type(obj).__name__}.{name}: label {label!r} must be non-empty, "
+                         "without surrounding blanks or line breaks, not starting with '#'")
     return n
 
 

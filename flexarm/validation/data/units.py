@@ -23,6 +23,7 @@ import numpy as np
 
 from ...fe.quantities import QUANTITIES, Quantity, accepted_units, si_unit, unit_factor
 from ...fe.typing import ArrayLike, FloatArray
+from .decimals import reals
 
 __all__ = [
     "QUANTITIES",
@@ -164,39 +165,19 @@ def _shortest(value: float, factor: Fraction) -> str:
 
 
 def parse_decimal_column(texts: list[str], factor: Fraction) -> np.ndarray | None:
-    """:func:`parse_values` of a column whose every cell is a
-    plain finite decimal, vectorised (bit for bit the same values); None when a cell is not
-    (then the cells are checked one by one for the message).
+    """:func:`parse_values` of a column whose every cell is a plain finite decimal,
+    vectorised (bit for bit the same values, :func:`~.decimals.reals`); None when a cell
+    is not (then the cells are checked one by one for the message).
 
-    ``float`` reads the same ASCII decimals as the schema (no ``_``), plus nan and inf,
-    which the finiteness test rejects.  Scaling by a power of ten is exact when written
-    into the exponent (``"0.081e-3"``: one rounding); other units go through the exact
-    parser once per distinct text (joint angles repeat within a series).
+    Examples
+    --------
+    >>> parse_decimal_column(["1.5", "-2e1"], Fraction(1, 1000)).tolist()
+    [0.0015, -0.02]
+    >>> parse_decimal_column(["1", "nan"], Fraction(1)) is None
+    True
     """
-    joined = "\n".join(texts)
-    if not joined.isascii() or "_" in joined or "" in texts:
-        return None
-    try:
-        plain = np.array(texts, dtype=np.float64)
-    except ValueError:
-        return None
-    if not np.all(np.isfinite(plain)):
-        return None
-    if factor == 1:
-        return plain
-    shift = _decimal_shift(factor)
-    if shift is not None and "e" not in joined and "E" not in joined:
-        suffix = f"e{shift}"
-        shifted = (suffix + "\n").join(texts) + suffix
-        # + 0.0: the exact parser reads "-0" as 0 (a Fraction has no signed zero)
-        return np.array(shifted.split("\n"), dtype=np.float64) + 0.0
-    distinct, inverse = np.unique(np.array(texts, dtype=np.str_), return_inverse=True)
-    return parse_values(distinct.tolist(), factor)[inverse.ravel()]
-
-
-def _decimal_shift(factor: Fraction) -> int | None:
-    """``k`` if ``factor`` is ``10**k`` (mm: -3, kN: 3), else None."""
-    for k in range(-9, 10):
-        if factor == Fraction(10) ** k:
-            return k
-    return None
+    encoded = [t.encode("utf-8") for t in texts]
+    ends = np.cumsum([len(b) + 1 for b in encoded], dtype=np.int64) - 1
+    buf = np.frombuffer(b"\n".join(encoded), np.uint8)
+    values, bad = reals(buf, ends - [len(b) for b in encoded], ends, factor)
+    return None if bad.any() or not np.all(np.isfinite(values)) else values

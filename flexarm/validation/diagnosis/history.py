@@ -18,6 +18,7 @@ import numpy as np
 
 from ...assembly.effects import apply_effects, body_centre_of_mass, resolve
 from ...assembly.system import ArmModel
+from ...fe.files import writes_folder
 from ...robot.description import BaseSupport, LumpedMass, Robot
 from ...robot.effects import NONLINEAR, STORED
 from ..static.plots import plot_history
@@ -83,6 +84,7 @@ def robot_with_effects(robot: Robot, arm: ArmModel, effects) -> Robot:
                    effects=kept)
 
 
+@writes_folder()
 def write_history(folder, diagnosis, nominal_rms: float | None = None,
                   sigma: float | None = None, what: str = "") -> list[Path]:
     """``history.csv``, ``history.json`` and ``history.png``: error of each model version

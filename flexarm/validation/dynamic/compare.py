@@ -24,13 +24,13 @@ from ...assembly.analyses import frf
 from ...assembly.effects import apply_effects
 from ...assembly.linkflex import links_arm, split_links
 from ...assembly.system import ArmModel
-from ...fe.files import atomic_path
+from ...fe.files import atomic_path, writes_folder
 from ...fe.plotting import pyplot
 from ...fe.text import text_table
 from ...fe.units import RECEPTANCE_SCALE, RECEPTANCE_UNIT
 from ..data.measurements import FrfData, ModalData
-from ..static.compare import write_rows
 from ..static.fit import chi2_band
+from ..static.report import write_rows
 from ..tolerances import tol
 from .frf_weights import coherence_weight, trusted_lines, weighted_rms
 from .modal import match_frequencies
@@ -261,6 +261,7 @@ def compare_frf(arm: ArmModel, data: FrfData, effects=(),
     return FrfComparison(data, H, tuple(table))
 
 
+@writes_folder()
 def write_modal_report(folder, cmp: ModalComparison) -> list[Path]:
     """``modal_errors.csv`` and ``frequency_errors.png`` (bars per pose and mode)."""
     plt = pyplot()
@@ -289,6 +290,7 @@ def write_modal_report(folder, cmp: ModalComparison) -> list[Path]:
     return out
 
 
+@writes_folder()
 def write_frf_report(folder, cmp: FrfComparison) -> list[Path]:
     """``frf_errors.csv``, ``frf_overlay.png`` (magnitude in :data:`RECEPTANCE_UNIT` and
     phase per pair) and ``frf_overlay.csv``, the plotted lines in SI (pose, input, output,

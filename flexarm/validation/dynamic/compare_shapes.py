@@ -20,6 +20,7 @@ from ...assembly.effects import apply_effects
 from ...assembly.linkflex import links_arm, split_links
 from ...assembly.system import ArmModel
 from ...fe.errors import ReadError
+from ...fe.files import writes_folder
 from ...fe.text import text_table
 from ...fe.typing import PathType
 from ..data.formats.csv_points import read_points
@@ -149,6 +150,7 @@ class ShapeComparison:
                      f"every measured mode paired at MAC >= {self.threshold:g}")
         return "\n".join(lines)
 
+    @writes_folder()
     def write(self, folder: PathType) -> list[Path]:
         """``mac.csv`` (every entry), ``pairs.csv``, ``comac.csv`` and per pose
         ``mac_<pose>.png`` and ``automac_<pose>.png`` into ``folder``."""

@@ -32,6 +32,7 @@ import numpy as np
 
 from ...assembly.effects import resolve
 from ...assembly.system import ArmModel
+from ...fe.files import writes_folder
 from ...fe.typing import ArrayLike, PathType
 from ...robot.collision import CollisionChecker
 from ...robot.description import Robot
@@ -218,6 +219,7 @@ class MeasurementPlan:
             lines.append(f"  if {name}: {vals}")
         return "\n".join(lines)
 
+    @writes_folder("directory")
     def write(self, directory: PathType, robot_name: str = "robot") -> list[Path]:
         """``plan.csv`` (static schema template), ``plan.mod`` (RAPID) and
         ``plan_expected.png`` in ``directory``; returns the paths."""

@@ -9,19 +9,17 @@ noise (no fitted parameters: dof = number of observations).
 
 from __future__ import annotations
 
-import csv
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ...assembly.system import ArmModel
-from ...fe.plotting import pyplot
 from ...fe.text import text_table
 from ..data.measurements import StaticData
 from ..tolerances import tol
 from .fit import Problem, chi2_band
-from .plots import plot_residual_vs_torque, write_residuals
+from .report import write_report, write_rows
 
 __all__ = ["SeriesError", "Comparison", "compare_static", "write_report", "write_rows"]
 
@@ -90,23 +88,87 @@ class Comparison:
 
     @property
     def poses(self) -> str:
-        """The measured poses, e.g. ``"P1, P2, P3"``."""
-        return ", ".join(sorted({r.pose for r in self.table}))
+        """The measured poses, e.g. ``"P1, P2, P3"`` (the first few of many, with their
+        count)."""
+        names = sorted(set(self.pose_groups()[0]))
+        shown = tol.plot_max_panels // 3
+        return ", ".join(names[:shown]) + (f", ... ({len(names)} poses)"
+                                           if len(names) > shown else "")
+
+    def pose_groups(self) -> tuple[list[str], np.ndarray]:
+        """The poses the series are grouped by in summaries and pictures: names, and
+        (n_series,) the group of each series.
+
+        The label's pose (``"P1"`` of ``"P1_y"``) while there are at most
+        ``tol.plot_max_panels`` of them; else the measured joint angles, named by the
+        label's pose where every series at those angles shares one, else by the angles
+        [deg] (series labels that do not follow the ``<pose>_<dir>`` convention).
+        """
+        labels = [r.pose for r in self.table]
+        distinct = dict.fromkeys(labels)
+        if len(distinct) <= tol.plot_max_panels or self.problem is None:
+            index = {p: i for i, p in enumerate(distinct)}
+            return list(distinct), np.array([index[p] for p in labels], dtype=np.int64)
+        pb = self.problem
+        at = pb.pose_index[[g[0] for g in pb.groups]]
+        distinct, first, inverse = np.unique(at, return_index=True, return_inverse=True)
+        seen = np.argsort(first)  # groups in order of appearance
+        of_series = np.argsort(seen)[inverse.ravel()]
+        names = []
+        for k, q in enumerate(pb.uq[distinct[seen]]):
+            own = {labels[i] for i in np.flatnonzero(of_series == k)}
+            names.append(own.pop() if len(own) == 1 else
+                         "q=" + "/".join(f"{a:g}" for a in np.degrees(q).round(3)))
+        return names, of_series
 
     def text(self) -> str:
         """The error table [mm], chi2_red with its band and the RMS [µm], as ``compare``
-        prints them."""
+        prints them.  Past ``tol.table_max_rows`` series the table has one row per pose
+        and load direction (:meth:`summary`; every series is in ``errors.csv``)."""
         lo, hi = self.band
+        head = ["series", "mean_abs_mm", "max_abs_mm", "relative", "max_meas_mm"]
+        rows = [[r.series, r.mean_abs_mm, r.max_abs_mm, r.relative, r.max_meas_mm]
+                for r in self.table]
+        note = []
+        if len(self.table) > tol.table_max_rows:
+            head = ["pose", "dir", "series"] + head[1:]
+            rows = [list(r) for r in self.summary()]
+            note = [f"{len(self.table):,d} series: one row per pose and load direction "
+                    "(mean of the series' mean and relative errors, largest maxima); every "
+                    "series in errors.csv (-o)"]
         return "\n".join([
-            text_table(["series", "mean_abs_mm", "max_abs_mm", "relative", "max_meas_mm"],
-                       [[r.series, r.mean_abs_mm, r.max_abs_mm, r.relative, r.max_meas_mm]
-                        for r in self.table], "{:.4f}"),
+            text_table(head, rows, "{:.4f}"), *note,
             f"chi2_red = {self.chi2_red:.3f} (band {lo:.3f}-{hi:.3f} for the stated noise), "
             f"RMS = {self.rms * 1e6:.1f} µm"])
 
+    def summary(self) -> list[tuple[str, str, int, float, float, float, float]]:
+        """One row per pose (:meth:`pose_groups`) and load direction, in order of
+        appearance: pose, direction, number of series, mean of their ``mean_abs_mm``,
+        largest ``max_abs_mm``, mean ``relative``, largest ``max_meas_mm``.
+
+        Examples
+        --------
+        >>> rows = (SeriesError("P1_y", "P1", "+y", 0.125, 0.25, 0.5, 4.0),
+        ...         SeriesError("P1_y2", "P1", "+y", 0.375, 0.5, 0.25, 4.5))
+        >>> Comparison(np.zeros((0, 3)), rows, 1.0, (0.9, 1.1), 0.0, None).summary()
+        [('P1', '+y', 2, 0.25, 0.5, 0.375, 4.5)]
+        """
+        names, of_series = self.pose_groups()
+        groups: dict[tuple[str, str], list[SeriesError]] = {}
+        for r, k in zip(self.table, of_series.tolist(), strict=True):
+            groups.setdefault((names[k], r.dir), []).append(r)
+        return [(pose, d, len(rs), float(np.mean([r.mean_abs_mm for r in rs])),
+                 max(r.max_abs_mm for r in rs), float(np.mean([r.relative for r in rs])),
+                 max(r.max_meas_mm for r in rs)) for (pose, d), rs in groups.items()]
+
     def write(self, folder) -> list[Path]:
-        """:func:`write_report` into ``folder``."""
+        """:func:`~.report.write_report` into ``folder``: all files or none."""
         return write_report(folder, self)
+
+    def write_errors(self, path) -> Path:
+        """``errors.csv``: :attr:`table`, one row per series."""
+        write_rows(path, SeriesError, self.table)
+        return Path(path)
 
 
 def compare_static(arm: ArmModel, data: StaticData, effects=(),
@@ -125,81 +187,37 @@ def compare_static(arm: ArmModel, data: StaticData, effects=(),
     pred = pb.predict(list(effects))
     r = pb.whiten(data.disp - pred)
     chi2_red = float(r @ r / max(pb.n_obs, 1))
-    rows = []
-    for g in pb.groups:
-        loaded = g[1:]
-        f = data.force[loaded]
-        k = int(np.argmax(np.abs(f).sum(axis=0))) if loaded.size else 0
-        sgn = np.sign(f[:, k].sum()) or 1.0
-        err = np.abs(data.disp[loaded, k] - pred[loaded, k])
-        meas = np.abs(data.disp[loaded, k])
-        label = str(data.series[g[0]])
-        rows.append(SeriesError(
-            series=label, pose=label.split("_")[0], dir=("-" if sgn < 0 else "+") + "xyz"[k],
-            mean_abs_mm=float(err.mean() * 1e3) if err.size else 0.0,
-            max_abs_mm=float(err.max() * 1e3) if err.size else 0.0,
-            relative=float(err.mean() / max(meas.mean(), 1e-12)) if err.size else 0.0,
-            max_meas_mm=float(meas.max() * 1e3) if err.size else 0.0))
+    rows = [SeriesError(series=label, pose=label.split("_")[0], dir=direction, mean_abs_mm=e,
+                        max_abs_mm=e_max, relative=rel, max_meas_mm=m_max)
+            for label, direction, e, e_max, rel, m_max in zip(*_series_errors(pb, pred),
+                                                                 strict=True)]
     res = (data.disp - pred)[~pb.is_ref]
     return Comparison(pred, tuple(rows), chi2_red, chi2_band(max(pb.n_obs, 1)),
                       float(np.sqrt(np.mean(res**2))) if res.size else 0.0, pb,
                       "E-model" if flexible is None else "flexible model")
 
 
-def write_rows(path, row_type: type, rows) -> None:
-    """Write the dataclass ``rows`` (instances of ``row_type``) as CSV: one column per
-    field, in field order; values as :mod:`csv` writes them (``repr`` of floats)."""
-    with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow([f.name for f in fields(row_type)])
-        w.writerows([getattr(r, f.name) for f in fields(row_type)] for r in rows)
-
-
-def write_report(folder, cmp: Comparison) -> list[Path]:
-    """Write ``errors.csv`` and the plots (matplotlib, Agg) into ``folder``."""
-    plt = pyplot()
-
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    out = [folder / "errors.csv"]
-    write_rows(out[0], SeriesError, cmp.table)
-    pb, data = cmp.problem, cmp.problem.data
-    fmag = np.linalg.norm(data.force, axis=1)
-    n = len(pb.groups)
-    cols = min(n, 6)
-    rows = -(-n // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(3 * cols, 2.4 * rows), squeeze=False)
-    for ax, g in zip(axes.ravel(), pb.groups, strict=False):
-        for k, c in enumerate("xyz"):
-            ax.plot(fmag[g], data.disp[g, k] * 1e3, "o", ms=3, color=f"C{k}", label=f"{c} meas")
-            ax.plot(fmag[g], cmp.predicted[g, k] * 1e3, "-", color=f"C{k}")
-        ax.set_title(str(data.series[g[0]]), fontsize=8)
-        ax.tick_params(labelsize=7)
-    fig.supylabel("deflection [mm]", fontsize=8)
-    axes[0, 0].legend(fontsize=6)
-    fig.supxlabel("load |F| [N]  (points: measured, lines: model)", fontsize=8)
-    fig.suptitle(f"TCP deflection, measured vs {cmp.model}, at {cmp.poses}", fontsize=9)
-    # Fixed margins: tight_layout over dozens of panels costs seconds per figure.
-    fig.subplots_adjust(left=0.06, right=0.99, bottom=0.4 / rows, top=1 - 0.25 / rows,
-                        wspace=0.35, hspace=0.45)
-    out.append(folder / "deflection_vs_force.png")
-    fig.savefig(out[-1], dpi=90)
-    plt.close(fig)
-    res = (data.disp - cmp.predicted) * 1e6
-    out += [write_residuals(folder / "residuals.csv", data.series, pb.tau, res * 1e-6,
-                            data.force, data.disp, cmp.predicted),
-            plot_residual_vs_torque(folder / "residual_vs_torque.png", pb.tau, res * 1e-6,
-                                    f"{cmp.model} at {cmp.poses}")]
-    poses = sorted({r.pose for r in cmp.table})
-    fig, ax = plt.subplots(figsize=(5, 3))
-    pose_of = np.array([str(s).split("_")[0] for s in data.series])
-    ax.boxplot([np.abs(res[(pose_of == p) & ~pb.is_ref]).ravel() for p in poses])
-    ax.set_xticks(np.arange(1, len(poses) + 1), poses)
-    ax.set_ylabel("|residual| [µm]")
-    ax.set_xlabel("pose")
-    ax.set_title(f"|measured - {cmp.model}| at {cmp.poses}", fontsize=9)
-    fig.tight_layout()
-    out.append(folder / "residual_by_pose.png")
-    fig.savefig(out[-1], dpi=90)
-    plt.close(fig)
-    return out
+def _series_errors(pb: Problem, pred: np.ndarray) -> tuple[list, ...]:
+    """Per series (vectorised over the series, which are runs of rows): label, load
+    direction, mean and largest error [mm] along it over the loaded readings, relative
+    error, largest measured deflection [mm]."""
+    data = pb.data
+    starts = np.array([g[0] for g in pb.groups], dtype=np.int64)
+    counts = np.array([len(g) - 1 for g in pb.groups], dtype=np.int64)  # loaded readings
+    loaded = ~pb.is_ref
+    f = np.where(loaded[:, None], data.force, 0.0)
+    k = np.argmax(np.add.reduceat(np.abs(f), starts, axis=0), axis=1)  # dominant component
+    row_k = k[pb.series_id]
+    rows = np.arange(len(f))
+    negative = np.add.reduceat(f[rows, row_k], starts) < 0
+    err = np.where(loaded, np.abs(data.disp[rows, row_k] - pred[rows, row_k]), 0.0)
+    meas = np.where(loaded, np.abs(data.disp[rows, row_k]), 0.0)
+    n = np.maximum(counts, 1)
+    mean_err, mean_meas = np.add.reduceat(err, starts) / n, np.add.reduceat(meas, starts) / n
+    some = counts > 0
+    labels = [str(x) for x in data.series[starts]]
+    directions = [("-" if s else "+") + "xyz"[j] for s, j in zip(negative, k, strict=True)]
+    return (labels, directions, np.where(some, mean_err * 1e3, 0.0).tolist(),
+            np.where(some, np.maximum.reduceat(err, starts) * 1e3, 0.0).tolist(),
+            np.where(some, mean_err / np.maximum(mean_meas, 1e-12), 0.0).tolist(),
+            np.where(some, np.maximum.reduceat(meas, starts) * 1e3, 0.0).tolist())

@@ -38,6 +38,7 @@ their nominal values.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,7 +46,7 @@ import numpy as np
 from ...assembly.analyses import tcp_compliance
 from ...assembly.effects import ADDED, added_deflection, apply_effects, measured
 from ...assembly.linkflex import links_arm, split_links
-from ...assembly.statics import joint_moments, series_starts
+from ...assembly.statics import distinct_poses, joint_moments, series_starts
 from ...assembly.system import ArmModel
 from ...fe.errors import FlexarmError
 from ...robot.effects import Effect, lower_bound
@@ -57,6 +58,8 @@ __all__ = ["Problem", "FitResult", "FitError", "fit_model", "try_wpredict", "bas
            "chi2_band"]
 
 Param = tuple[int, str]  # (effect index, parameter name)
+#: Readings per block of the per-reading work.
+_ROWS = 1 << 16
 
 
 class Problem:
@@ -91,19 +94,30 @@ class Problem:
         self.discounted = np.zeros(n, bool)
         if discount is not None:
             self.discount(discount)
-        self.uq, inv = np.unique(data.q, axis=0, return_inverse=True)
-        self.pose_index = inv.ravel()
+        # kinematics once per distinct pose, loads per reading, a block of rows at a time:
+        # a million readings stay a few hundred MB
+        self.uq, self.pose_index = distinct_poses(data.q)
         self.dw = np.zeros((n, 6))
         self.dw[:, :3] = data.force
         if data.moment is not None:
             self.dw[:, 3:] = data.moment
         self.dw -= self.dw[self.ref]
-        self.tau = joint_moments(arm, data.q, data.force, data.moment)[:, :, 0]
+        self.tau = np.zeros((n, arm.chain.n_joints))
+        for a in range(0, n, _ROWS):
+            rows = slice(a, a + _ROWS)
+            moment = None if data.moment is None else data.moment[rows]
+            self.tau[rows] = joint_moments(arm, self.uq, data.force[rows], moment,
+                                           pose_index=self.pose_index[rows])[:, :, 0]
         self.dtau = self.tau - self.tau[self.ref]
-        self.J = jacobian(arm.chain, data.q)[:, :3, :]
-        self.groups = [np.flatnonzero(self.ref == s) for s in np.unique(self.ref)]
-        self.series_id = np.searchsorted(np.unique(self.ref), self.ref)
+        new = np.r_[True, self.ref[1:] != self.ref[:-1]][:n]  # series are runs of rows
+        self.groups = np.split(np.arange(n), np.flatnonzero(new)[1:]) if n else []
+        self.series_id = np.cumsum(new) - 1
         self.y = np.asarray(data.disp, float)
+
+    @functools.cached_property
+    def J(self) -> np.ndarray:
+        """(n, 3, n_joints) TCP translation per joint rotation [m/rad] of each reading."""
+        return jacobian(self.arm.chain, self.uq)[self.pose_index, :3, :]
 
     def discount(self, rows) -> None:
         """Leave the readings ``rows`` (bool mask or indices) out of every fit from now on
@@ -141,8 +155,11 @@ class Problem:
     def predict(self, effects) -> np.ndarray:
         """(n, 3) relative TCP deflections [m] of the arm with ``effects``."""
         arm, laws = self.model(effects)
-        C = tcp_compliance(arm, self.uq)[self.pose_index, :3, :]
-        u = np.einsum("nij,nj->ni", C, self.dw)
+        C = tcp_compliance(arm, self.uq)[:, :3, :]
+        u = np.zeros((len(self.dw), 3))
+        for a in range(0, len(u), _ROWS):
+            rows = slice(a, a + _ROWS)
+            u[rows] = np.einsum("nij,nj->ni", C[self.pose_index[rows]], self.dw[rows])
         for j, js in laws.items():
             for law in js:
                 u += self.law_signature(j, law.deflection)

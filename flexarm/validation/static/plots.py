@@ -7,12 +7,14 @@ PNG and the CSV show the same numbers.
 
 from __future__ import annotations
 
+import csv
 from pathlib import Path
 
 import numpy as np
 
 from ...fe.plotting import pyplot, save_figure
 from ...fe.typing import FloatArray
+from ..tolerances import tol
 
 __all__ = ["plot_history", "plot_residual_vs_torque", "torque_joints", "write_residuals",
            "NOISE_FLOOR_FACTOR"]
@@ -128,13 +130,21 @@ def torque_joints(tau: FloatArray) -> np.ndarray:
 def plot_residual_vs_torque(path, tau: FloatArray, residual: FloatArray,
                             title: str = "") -> Path:
     """Residual x, y, z [µm] against each joint's torque [N m], one panel per joint that
-    carries torque (:func:`torque_joints`), with a legend.
+    carries torque (:func:`torque_joints`), with a legend.  Past
+    ``tol.plot_max_points`` readings, a density instead (:func:`_plot_density`).
 
     ``tau`` (n, n_joints) [N m]; ``residual`` (n, 3) [m] (measured minus predicted).
     """
     plt = pyplot()
     joints = torque_joints(tau)
     res = np.asarray(residual, dtype=float) * 1e6
+    left_out = sorted(set(range(np.shape(tau)[1])) - set(joints.tolist()))
+    names = ", ".join(str(j + 1) for j in left_out)
+    note = (f" (joint{'s' if len(left_out) > 1 else ''} {names} "
+            f"carr{'y' if len(left_out) > 1 else 'ies'} no torque: not shown)" if left_out else "")
+    title = (title + ": " if title else "") + "residual vs joint torque" + note
+    if len(res) > tol.plot_max_points:
+        return _plot_density(path, np.asarray(tau, dtype=float), res, joints, title)
     fig, axes = plt.subplots(1, len(joints), figsize=(2.8 * len(joints) + 0.6, 2.9),
                              squeeze=False, sharey=True)
     for j, ax in zip(joints, axes[0], strict=True):
@@ -144,13 +154,48 @@ def plot_residual_vs_torque(path, tau: FloatArray, residual: FloatArray,
         ax.tick_params(labelsize=7)
     axes[0, 0].set_ylabel("residual (measured - model) [µm]", fontsize=7)
     axes[0, 0].legend(fontsize=6)
-    left_out = sorted(set(range(np.shape(tau)[1])) - set(joints.tolist()))
-    names = ", ".join(str(j + 1) for j in left_out)
-    note = (f" (joint{'s' if len(left_out) > 1 else ''} {names} "
-            f"carr{'y' if len(left_out) > 1 else 'ies'} no torque: not shown)" if left_out else "")
-    fig.suptitle((title + ": " if title else "") + "residual vs joint torque" + note,
-                 fontsize=8)
+    fig.suptitle(title, fontsize=8)
     return save_figure(fig, path, dpi=90)
+
+
+def _plot_density(path, tau: FloatArray, res_um: FloatArray, joints: np.ndarray,
+                  title: str) -> Path:
+    """The residual picture of many readings: one row per residual component, one column
+    per joint, each a 2-D histogram (log colour scale) of the readings' residual [µm]
+    against the joint's torque [N m]."""
+    from matplotlib.colors import LogNorm
+
+    plt = pyplot()
+    fig, axes = plt.subplots(3, len(joints), figsize=(2.8 * len(joints) + 1.2, 6.4),
+                             squeeze=False, sharey="row")
+    peak, image = 1, None
+    counts = {}
+    for k in range(3):
+        y_edges = _edges(res_um[:, k])
+        for j in joints:
+            h, xe, _ = np.histogram2d(tau[:, j], res_um[:, k], (_edges(tau[:, j]), y_edges))
+            counts[k, j] = (h, xe, y_edges)
+            peak = max(peak, int(h.max()))
+    for k, c in enumerate("xyz"):
+        for j, ax in zip(joints, axes[k], strict=True):
+            h, xe, ye = counts[k, j]
+            image = ax.pcolormesh(xe, ye, np.where(h > 0, h, np.nan).T,
+                                  norm=LogNorm(1, peak), cmap="viridis")
+            ax.tick_params(labelsize=7)
+            if k == 2:
+                ax.set_xlabel(f"joint {j + 1} torque [N m]", fontsize=7)
+        axes[k, 0].set_ylabel(f"residual {c} [µm]", fontsize=7)
+    fig.colorbar(image, ax=axes, shrink=0.8, label="readings per cell")
+    fig.suptitle(f"{title} ({len(res_um):,d} readings: density)", fontsize=8)
+    return save_figure(fig, path, dpi=90, tight=False)
+
+
+def _edges(x: np.ndarray) -> np.ndarray:
+    """``tol.plot_bins`` equal bins over the finite range of ``x`` (one unit wide if flat)."""
+    lo, hi = float(np.min(x)), float(np.max(x))
+    if hi <= lo:
+        lo, hi = lo - 0.5, hi + 0.5
+    return np.linspace(lo, hi, tol.plot_bins + 1)
 
 
 def write_residuals(path, series, tau: FloatArray, residual: FloatArray,
@@ -161,8 +206,6 @@ def write_residuals(path, series, tau: FloatArray, residual: FloatArray,
     :func:`plot_residual_vs_torque` draws; with ``force`` (n, 3) [N], ``measured`` and
     ``predicted`` (n, 3) [m] also ``f_N`` (load magnitude) and ``d<x|y|z>_meas_mm``,
     ``d<x|y|z>_model_mm`` (what ``deflection_vs_force.png`` draws)."""
-    import csv
-
     tau = np.asarray(tau, dtype=float)
     head = ["series"] + [f"tau_j{j + 1}_Nm" for j in range(tau.shape[1])]
     cols = [tau]
@@ -178,9 +221,27 @@ def write_residuals(path, series, tau: FloatArray, residual: FloatArray,
     table = np.hstack(cols)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    labels = [str(x) for x in series]
+    if len(labels) != len(table):
+        raise ValueError(f"{len(labels)} series labels for {len(table)} readings")
+    # one format per row, a block of rows at a time (what csv.writer gives for these
+    # cells, in a fraction of its time: a million readings)
+    quote = any(set(x) & set(',"\r\n') for x in dict.fromkeys(labels))
+    fmt = ",".join(["%s"] + ["%.10g"] * table.shape[1]) + "\n"
     with open(path, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(head)
-        w.writerows([s, *(f"{v:.10g}" for v in row)]
-                    for s, row in zip(series, table, strict=True))
+        csv.writer(fh).writerow(head)
+        for a in range(0, len(table), 1 << 15):
+            names = labels[a:a + (1 << 15)]
+            if quote:
+                names = [_csv_cell(x) for x in names]
+            fh.write("".join(fmt % (x, *row) for x, row in
+                             zip(names, table[a:a + (1 << 15)].tolist(), strict=True)))
     return path
+
+
+def _csv_cell(text: str) -> str:
+    """``text`` as the csv module writes a cell (quoted when it holds a comma, a quote or
+    a line break)."""
+    if any(c in text for c in ',"\r\n'):
+        return '"' + text.replace('"', '""') + '"'
+    return text

@@ -320,3 +320,38 @@ def test_structure_errors(tmp_path):
     _raises(path, 3, "unexpected 'MODULE' after ENDMODULE")
     with pytest.raises(ReadError, match="cannot read the file"):
         read_rapid(tmp_path / "missing.mod")
+
+
+# ----------------------------------------------------------------------------- depth and size
+@pytest.mark.parametrize("value, message", [
+    ("[" * 200_000 + "1" + "]" * 200_000, "brackets nested more than 32 deep"),
+    ("(" * 200_000 + "1" + ")" * 200_000, "brackets nested more than 32 deep"),
+    ("[" * 33 + "1" + "]" * 33, "brackets nested more than 32 deep"),
+], ids=["brackets", "parentheses", "33-deep"])
+def test_deep_nesting_is_one_line_not_a_recursion_error(tmp_path, value, message):
+    _raises(_module(tmp_path, "", f"CONST num x:={value};\n"), 2, message)
+
+
+def test_nesting_up_to_the_limit_and_long_sign_chains_are_read(tmp_path):
+    path = _module(tmp_path, "", "CONST num x:=" + "(" * 32 + "2" + ")" * 32 + ";\n"
+                   "CONST num y:=" + "-" * 100_001 + "3;\nCONST num z:=-+-(4);\n")
+    data = read_rapid(path).data
+    assert (data["x"].value, data["y"].value, data["z"].value) == (2.0, -3.0, 4.0)
+
+
+def test_deeply_nested_calls_in_a_move_are_one_line(tmp_path):
+    target = "Offs(" * 50_000 + "p1" + ",1,0,0)" * 50_000
+    _raises(_module(tmp_path, f"PROC main()\n  MoveL {target}, v10, fine, tool0;\nENDPROC\n"),
+            4, "calls nested more than 32 deep")
+
+
+def test_many_procedures_share_module_data_and_shadow_it(tmp_path):
+    """Routine data shadow module data in their routine only (the routines do not copy the
+    module's data: a module of thousands of targets and routines stays linear)."""
+    procs = "".join(f"PROC r{k}()\n  CONST robtarget p1:=[[{k},0,0],[1,0,0,0],[0,0,0,0],"
+                    "[9E9,9E9,9E9,9E9,9E9,9E9]];\n  MoveL p1, v10, fine, tool0;\nENDPROC\n"
+                    f"PROC s{k}()\n  MoveL p1, v10, fine, tool0;\nENDPROC\n" for k in range(200))
+    mod = read_rapid(_module(tmp_path, procs))
+    assert len(mod.procedures) == 400
+    assert mod.procedures["r7"].motions[0].to_point.pos_mm[0] == 7.0  # its own p1
+    assert mod.procedures["s7"].motions[0].to_point.pos_mm.tolist() == [1000, 0, 500]

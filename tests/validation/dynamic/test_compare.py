@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from flexarm.robot.effects import parse_effect
@@ -76,7 +78,7 @@ def test_frf_overlay_csv_is_the_plotted_lines(tmp_path, demo, monkeypatch):
     real = matplotlib.figure.Figure.savefig
 
     def savefig(self, fname, *args, **kwargs):
-        saved[str(fname)] = self
+        saved[Path(fname).name] = self  # drawn in the report's temporary folder
         return real(self, fname, *args, **kwargs)
 
     monkeypatch.setattr(matplotlib.figure.Figure, "savefig", savefig)
@@ -85,7 +87,7 @@ def test_frf_overlay_csv_is_the_plotted_lines(tmp_path, demo, monkeypatch):
     cmp = compare_frf(arm, data)
     _, png, csv_path = write_frf_report(tmp_path, cmp)
     table = np.genfromtxt(csv_path, delimiter=",", names=True, dtype=None, encoding=None)
-    axes = saved[str(png)].axes
+    axes = saved[png.name].axes
     n = len(cmp.table)
     assert len(axes) == 2 * n and axes[0].get_ylabel() == "|H| [mm/kN]"
     for c, r in enumerate(cmp.table):

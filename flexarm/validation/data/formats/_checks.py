@@ -84,7 +84,11 @@ def check_same_pose(table: Table, poses: np.ndarray, q: FloatArray, what: str = 
     gives the parenthesis that ends the message."""
     _, first, inverse = np.unique(poses, return_index=True, return_inverse=True)
     origin = first[inverse]
-    bad = np.argwhere(q != q[origin])
+    # a joint at a time: a million rows of six angles need no (n, 6) copy
+    differs = np.zeros(q.shape, bool)
+    for j in range(q.shape[1]):
+        differs[:, j] = q[:, j] != q[origin, j]
+    bad = np.argwhere(differs)
     if exempt is not None:
         bad = bad[~exempt[bad[:, 0]]]
     _joint_mismatch(table, bad, lambda i, j: (

@@ -1,16 +1,15 @@
-"""Lines of a measurement file to column texts: comments and blank lines dropped, fields
-split at commas (quoted ones through the csv module), checked against the header's count.
-Every error names the file and the line."""
+"""The line-by-line reader of measurement files: comments and blank lines dropped, fields
+split at commas (quoted ones through the csv module).  Every error names the file and the
+line.  Files the byte scan of :mod:`._cells` reads are only split here for their header."""
 
 from __future__ import annotations
 
 import csv
-import re
 from pathlib import Path
 
 from ....fe.errors import ReadError
 
-__all__ = ["MeasurementFileError", "records", "fields", "column_texts"]
+__all__ = ["MeasurementFileError", "records", "fields"]
 
 
 class MeasurementFileError(ReadError):
@@ -59,41 +58,3 @@ def fields(record: str, number: int, source: str) -> list[str]:
         raise MeasurementFileError(f"{source}, line {number}: malformed CSV ({exc})",
                                    source, number) from None
     return [f.strip() for f in row]
-
-
-#: Lines split at a time (their fields exist as Python strings only chunk by chunk).
-_CHUNK_ROWS = 65536
-#: A comma with the blanks around it (never a line break: lines are joined by them).
-_SEPARATOR = re.compile(r"[^\S\n]*,[^\S\n]*")
-
-
-def column_texts(records: list[str], numbers: list[int], n: int, header_line: int,
-                  source: str) -> tuple[str, ...]:
-    """Each column's fields joined by newlines; a line with other than ``n`` fields raises.
-    ``records`` is emptied as it goes."""
-    def check(count: int, k: int) -> None:
-        if count != n:
-            hint = ("; decimal commas? write 1.5, not 1,5 (and quote a label holding a "
-                    "comma)" if count > n else "")
-            raise MeasurementFileError(
-                f"{source}, line {numbers[k]}: {count} fields, expected {n} as in the header "
-                f"(line {header_line}){hint}", source, numbers[k])
-
-    parts: list[list[str]] = [[] for _ in range(n)]
-    for start in range(0, len(records), _CHUNK_ROWS):
-        chunk = records[start:start + _CHUNK_ROWS]
-        block = "\n".join(chunk)
-        if '"' in block:  # quoted fields: the csv module, line by line
-            got = []
-            for k, record in enumerate(chunk, start=start):
-                row = fields(record, numbers[k], source)
-                check(len(row), k)
-                got += row
-        else:  # split the whole chunk at once
-            for k, record in enumerate(chunk, start=start):
-                check(record.count(",") + 1, k)
-            got = _SEPARATOR.sub(",", block).replace("\n", ",").split(",")
-        for j in range(n):
-            parts[j].append("\n".join(got[j::n]))
-        records[start:start + len(chunk)] = [""] * len(chunk)  # done: free the line texts
-    return tuple("\n".join(p) for p in parts)

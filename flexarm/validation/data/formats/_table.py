@@ -10,7 +10,6 @@ the column as written in the header.
 from __future__ import annotations
 
 import csv
-import re
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -20,17 +19,11 @@ import numpy as np
 from ....fe.files import atomic_path
 from ....fe.notebook import data_frame
 from ....fe.typing import IntArray, PathType
+from ..decimals import INTEGER, REAL, integers, reals
 from ..measurements import DIRECTIONS
-from ..units import (
-    QUANTITIES,
-    accepted_units,
-    format_values,
-    parse_decimal_column,
-    parse_values,
-    split_column,
-    unit_factor,
-)
-from ._lines import MeasurementFileError, column_texts, fields, records
+from ..units import QUANTITIES, accepted_units, format_values, split_column, unit_factor
+from ._cells import Cells, file_lines
+from ._lines import MeasurementFileError
 
 __all__ = ["MeasurementFileError", "Field", "Schema", "Column", "Table", "read_table",
            "write_table", "table_frame", "label_problem", "joints", "vector"]
@@ -40,8 +33,8 @@ __all__ = ["MeasurementFileError", "Field", "Schema", "Column", "Table", "read_t
 #: turn it into overflow.  Angles: two turns.
 PLAUSIBLE = {"length": 100.0, "force": 1e7, "moment": 1e7, "angle": 4 * np.pi,
              "frequency": 1e6}
-_INT = re.compile(r"[+-]?[0-9]+")
-_REAL = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+#: Rows converted at a time (the work arrays stay a few MB).
+_ROWS = 1 << 16
 
 
 def label_problem(label: str) -> str | None:
@@ -69,6 +62,10 @@ class Field:
         Canonical unit, used when writing.
     required : bool
         Whether every file of the kind has this column.
+    group : str or None
+        The columns of one array (``"q"`` for ``q1`` ... ``q6``, ``"f"`` for ``fx, fy,
+        fz``): :meth:`Table.parse` fills them into one (n, k) array, also given under
+        this name.
     """
 
     base: str
@@ -76,6 +73,7 @@ class Field:
     quantity: str | None = None
     unit: str | None = None
     required: bool = True
+    group: str | None = None
 
     @property
     def canonical(self) -> str:
@@ -118,12 +116,13 @@ class Schema:
 
 def joints(unit: str = "deg") -> tuple[Field, ...]:
     """``q1`` ... ``q6``: joint angles."""
-    return tuple(Field(f"q{j}", "real", "angle", unit) for j in range(1, 7))
+    return tuple(Field(f"q{j}", "real", "angle", unit, group="q") for j in range(1, 7))
 
 
 def vector(prefix: str, quantity: str, unit: str, required: bool = True) -> tuple[Field, ...]:
     """``<prefix>x``, ``<prefix>y``, ``<prefix>z``: a base-frame vector."""
-    return tuple(Field(prefix + c, "real", quantity, unit, required) for c in DIRECTIONS)
+    return tuple(Field(prefix + c, "real", quantity, unit, required, prefix or "xyz")
+                 for c in DIRECTIONS)
 
 
 @dataclass(frozen=True)
@@ -151,10 +150,9 @@ class Table:
         Known base name -> :class:`Column`.
     unknown : tuple of str
         Header names that no measurement kind knows.
-    cells : tuple of str
-        Stripped fields of the data rows, one string per header column with its cells
-        joined by newlines (which no cell holds): a million rows as Python strings
-        would take gigabytes.
+    cells : Cells
+        The fields of the data rows (a byte buffer and the bounds of each field: a
+        million rows as Python strings would take gigabytes).
     lines : (n,) int
         Line number of each data row.
     """
@@ -164,7 +162,7 @@ class Table:
     names: tuple[str, ...]
     columns: dict[str, Column]
     unknown: tuple[str, ...]
-    cells: tuple[str, ...]
+    cells: Cells
     lines: IntArray
 
     def error(self, row: int | None, base: str | None, message: str) -> MeasurementFileError:
@@ -176,7 +174,7 @@ class Table:
 
     def text(self, row: int, base: str) -> str:
         """The cell of data row ``row`` in column ``base``, as written."""
-        return self.cells[self.columns[base].index].split("\n")[row]  # error paths only
+        return self.cells.text(row, self.columns[base].index)
 
     def require(self, schema: Schema, guessed: bool = False) -> None:
         """Raise unless the header has all required and only known columns of ``schema``."""
@@ -199,65 +197,96 @@ class Table:
         """Check the header against ``schema`` and convert every present column.
 
         Returns base -> (n,) array: ``str`` labels and directions, ``int64`` integers,
-        ``float64`` reals in SI.  The first bad cell in file order raises.
+        ``float64`` reals in SI; and group -> (n, k) array for each group of columns all
+        present (``"q"``: the joint angles; the columns are views of it).  The arrays are
+        read-only.  The first bad cell in file order raises.
         """
         self.require(schema, guessed)
+        n = len(self.lines)
         values, problems = {}, []
+        members: dict[str, list[Field]] = {}
         for field in schema.fields:
-            if field.base in self.columns:
-                values[field.base], problem = self._convert(field)
-                if problem is not None:
-                    problems.append((problem[0], self.columns[field.base].index, field.base,
-                                     problem[1]))
+            if field.group is not None:
+                members.setdefault(field.group, []).append(field)
+        for group, fields_ in members.items():
+            if all(f.base in self.columns for f in fields_):
+                values[group] = np.zeros((n, len(fields_)))
+        for field in schema.fields:
+            if field.base not in self.columns:
+                continue
+            out = None
+            if field.group in values:
+                out = values[field.group][:, members[field.group].index(field)]
+            values[field.base], problem = self._convert(field, out)
+            if problem is not None:
+                problems.append((problem[0], self.columns[field.base].index, field.base,
+                                 problem[1]))
         if problems:
             row, _, base, message = min(problems)
             raise self.error(row, base, message)
+        for v in values.values():
+            v.setflags(write=False)
         return values
 
-    def _convert(self, field: Field) -> tuple[np.ndarray, tuple[int, str] | None]:
+    def _convert(self, field: Field, out: np.ndarray | None = None
+                 ) -> tuple[np.ndarray, tuple[int, str] | None]:
         j = self.columns[field.base].index
-        texts = self.cells[j].split("\n")
+        if field.type in ("label", "direction"):
+            texts = self.cells.strings(j)
+            wrong = _string_problems(field.type, texts)
+            if wrong.size:
+                return texts, (int(wrong[0]), _cell_problem(field.type, str(texts[wrong[0]])))
+            return (np.char.lower(texts) if field.type == "direction" else texts), None
+        n = len(self.lines)
+        if out is None:
+            out = np.zeros(n, np.int64 if field.type == "int" else np.float64)
         factor = self.columns[field.base].factor
-        values = parse_decimal_column(texts, factor) if field.type == "real" else None
-        for i, t in enumerate(texts if values is None else ()):
-            problem = _cell_problem(field.type, t)
-            if problem is not None:
-                return np.zeros(0), (i, problem)
-        if field.type == "real":
-            values = parse_values(texts, self.columns[field.base].factor) if values is None \
-                else values
-            bound = PLAUSIBLE.get(field.quantity)
-            big = np.flatnonzero(np.abs(values) > bound) if bound is not None else ()
-            if len(big):
-                i, column = int(big[0]), self.columns[field.base]
-                limit, unit = bound / float(column.factor), split_column(column.name)[1]
-                return values, (i, f"{texts[i]} is not a plausible {field.quantity} (more "
-                                   f"than {limit:.4g} {unit}): is the unit in the header "
-                                   f"right?")
-            return values, None
-        if field.type == "int":
-            return np.array([int(t) for t in texts], dtype=np.int64), None
-        if field.type == "direction":
-            return np.array([t.lower() for t in texts], dtype=np.str_), None
-        return np.array(texts, dtype=np.str_), None
+        for a in range(0, n, _ROWS):  # a block of rows at a time: small work arrays
+            starts, ends = self.cells.column(j, a, a + _ROWS)
+            if field.type == "int":
+                out[a:a + _ROWS], bad = integers(self.cells.buf, starts, ends)
+            else:
+                out[a:a + _ROWS], bad = reals(self.cells.buf, starts, ends, factor)
+            if bad.any():
+                i = a + int(np.argmax(bad))
+                return out, (i, _cell_problem(field.type, self.text(i, field.base)))
+        bound = PLAUSIBLE.get(field.quantity)
+        big = np.flatnonzero(np.abs(out) > bound) if bound is not None else ()
+        if len(big):
+            i, column = int(big[0]), self.columns[field.base]
+            limit, unit = bound / float(column.factor), split_column(column.name)[1]
+            return out, (i, f"{self.text(i, field.base)} is not a plausible {field.quantity}"
+                            f" (more than {limit:.4g} {unit}): is the unit in the header "
+                            "right?")
+        return out, None
 
 
-def _cell_problem(kind: str, text: str) -> str | None:
+def _string_problems(kind: str, texts: np.ndarray) -> np.ndarray:
+    """Rows whose label (or direction) cell is wrong, vectorised over the code points."""
+    codes = texts.view(np.uint32).reshape(len(texts), -1)
+    first = codes[:, 0]
+    if kind == "direction":
+        wrong = (codes[:, 1:] != 0).any(axis=1) | ~np.isin(first | 32, [ord(c) for c in DIRECTIONS])
+    else:
+        wrong = (first == 0) | (first == ord("#")) | np.isin(codes, [10, 13]).any(axis=1)
+    return np.flatnonzero(wrong)
+
+
+def _cell_problem(kind: str, text: str) -> str:
     if not text:
         return "empty value"
-    if kind == "real" and not _REAL.fullmatch(text):
+    if kind == "real" and not REAL.fullmatch(text):
         try:
             number = float(text)
         except ValueError:
             number = 0.0
         return f"{text!r} is not a {'finite ' if not np.isfinite(number) else ''}number"
-    if kind == "int" and not _INT.fullmatch(text):
-        return f"{text!r} is not an integer"
+    if kind == "int":
+        return (f"{text!r} is not an integer" if not INTEGER.fullmatch(text) else
+                f"{text} does not fit in a 64-bit integer")
     if kind == "direction" and text.lower() not in DIRECTIONS:
         return f"{text!r} is not a direction (x, y or z)"
-    if kind == "label":
-        return label_problem(text)
-    return None
+    return label_problem(text) or f"{text!r} cannot be read"
 
 
 def _header(names: list[str], line: int, source: str, vocabulary: dict[str, Field]):
@@ -317,18 +346,18 @@ def read_table(path: PathType, vocabulary: dict[str, Field]) -> Table:
     """
     path = Path(path)
     source = str(path)
-    numbers, lines = records(path, source)
-    if not lines:
+    lines = file_lines(path, source)
+    if not len(lines):
         raise MeasurementFileError(f"{source}: no header row (the file is empty or only "
                                    "holds comments)", source)
-    header_line, names = numbers[0], fields(lines[0], numbers[0], source)
+    header_line, names = int(lines.numbers[0]), lines.header()
     separator = next((c for c in ";\t" if len(names) == 1 and c in names[0]), None)
     if separator is not None:
         raise MeasurementFileError(
             f"{source}, line {header_line}: the fields are separated by {separator!r}; "
             f"flexarm reads comma-separated files with '.' decimals (export as CSV with ',' "
             f"separators)", source, header_line)
-    numbers_found = [n for n in names if _REAL.fullmatch(n)]
+    numbers_found = [n for n in names if REAL.fullmatch(n)]
     if numbers_found:  # a data row where the header belongs: say so, not "duplicate 0"
         shown = ", ".join(numbers_found[:3]) + (", ..." if len(numbers_found) > 3 else "")
         raise MeasurementFileError(
@@ -340,10 +369,8 @@ def read_table(path: PathType, vocabulary: dict[str, Field]) -> Table:
     if len(lines) == 1:
         raise MeasurementFileError(f"{source}, line {header_line}: no data rows after the "
                                    "header", source, header_line)
-    del lines[0], numbers[0]
-    cells = column_texts(lines, numbers, len(names), header_line, source)
-    return Table(source, header_line, tuple(names), columns, unknown, cells,
-                 np.array(numbers, dtype=np.int64))
+    cells = lines.cells(len(names), header_line)
+    return Table(source, header_line, tuple(names), columns, unknown, cells, lines.numbers[1:])
 
 
 def write_table(path: PathType, schema: Schema, values: dict[str, np.ndarray],

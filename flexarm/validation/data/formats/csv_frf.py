@@ -46,7 +46,7 @@ def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = Fa
     """Check and convert a read table into :class:`FrfData`."""
     v = table.parse(SCHEMA, guessed)
     poses, freq = v["pose"], v["freq"]
-    q = np.column_stack([v[f"q{j}"] for j in range(1, 7)])
+    q = v["q"]
     check_same_pose(table, poses, q)
     check_positive(table, freq, "freq", "frequency", strict=False)
     check_unique(table, [poses, v["input"], v["output"], freq], "freq",

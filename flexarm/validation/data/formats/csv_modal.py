@@ -51,7 +51,7 @@ def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = Fa
     v = table.parse(SHAPES_SCHEMA if "node" in table.columns or "phi" in table.columns
                     or "dir" in table.columns else SCHEMA, guessed)
     poses, modes = v["pose"], v["mode"]
-    q = np.column_stack([v[f"q{j}"] for j in range(1, 7)])
+    q = v["q"]
     check_same_pose(table, poses, q)
     check_positive(table, modes, "mode", "mode number")
     has_shapes = _check_shape_columns(table, v)

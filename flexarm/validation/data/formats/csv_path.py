@@ -28,7 +28,7 @@ def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = Fa
     """Check and convert a read table into :class:`PathData` (``limits`` unused)."""
     v = table.parse(SCHEMA, guessed)
     check_increasing(table, None, v["step"])
-    return PathData(steps=v["step"], points=np.column_stack([v["x"], v["y"], v["z"]]),
+    return PathData(steps=v["step"], points=v["xyz"],
                     force=v["f"])
 
 

@@ -45,7 +45,7 @@ def read_points(path: PathType, n_bodies: int | None = None) -> Points:
         raise table.error(i, "link", f"link {v['link'][i]} does not exist (the arm has "
                           f"bodies 0..{n_bodies - 1}, 0 = base)")
     return Points(nodes=v["node"], links=v["link"],
-                  positions=np.column_stack([v["x"], v["y"], v["z"]]))
+                  positions=v["xyz"])
 
 
 def write_points(path: PathType, points: Points, comments=()) -> Path:

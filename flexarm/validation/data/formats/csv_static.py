@@ -53,7 +53,8 @@ DATA = StaticData
 def _stack(values: dict, prefix: str) -> np.ndarray | None:
     if prefix + "x" not in values:
         return None
-    return np.column_stack([values[prefix + c] for c in "xyz"])
+    return values[prefix] if prefix in values else np.column_stack(
+        [values[prefix + c] for c in "xyz"])
 
 
 def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = False
@@ -63,7 +64,7 @@ def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = Fa
     series, steps = v["series"], v["step"]
     check_contiguous(table, series, "series", "series")
     check_increasing(table, series, steps, "series")
-    q = np.column_stack([v[f"q{j}"] for j in range(1, 7)])
+    q = v["q"]
     check_same_pose(table, series, q, "series", lambda i, j, first: (
         f"{table.text(i, f'q{j + 1}')} instead of {table.text(first, f'q{j + 1}')}: a load "
         "series holds one pose; was the robot moved?"), _moving(series, q))
@@ -72,7 +73,7 @@ def from_table(table: Table, limits: ArrayLike | None = None, guessed: bool = Fa
     for prefix, what in (("d", "displacement"), ("r", "rotation")):
         if prefix + "x" not in v:
             continue
-        bad = np.argwhere(np.column_stack([v[prefix + c][starts] for c in "xyz"]) != 0)
+        bad = np.argwhere(_stack(v, prefix)[starts] != 0)
         if bad.size:
             i, base = starts[bad[0, 0]], prefix + "xyz"[bad[0, 1]]
             raise table.error(i, base, f"the first row of series '{series[i]}' (step "
