@@ -73,6 +73,8 @@ def _labels(obj, name: str, value, n: int | None) -> int:
         value = value.ravel() if value.dtype.kind == "U" else [str(v) for v in value.ravel()]
     n = _array(obj, name, value, np.str_, (), n)
     labels = getattr(obj, name)
+    if not len(labels):  # no rows (a band with no mode in it): nothing to check
+        return n
     # checked on the code points, a million labels at once (a trailing NUL is no character)
     codes = labels.view(np.uint32).reshape(len(labels), -1)
     last = np.maximum(np.count_nonzero(codes, axis=1) - 1, 0)
