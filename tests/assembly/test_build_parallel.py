@@ -31,8 +31,10 @@ def test_two_processes_build_what_one_builds(box_robot):
     assert parallel.jobs == 2 and serial.jobs == 1
     for a, b in zip(parallel.links, serial.links, strict=True):
         assert a.name == b.name and a.mesher == b.mesher == "box_mesher"
-        np.testing.assert_array_equal(a.superelement.K, b.superelement.K)
-        np.testing.assert_array_equal(a.superelement.M, b.superelement.M)
+        # a worker runs BLAS on one thread, this process on several: the sums are grouped
+        # differently, so the two agree to round-off of the largest entry, not bit for bit
+        for x, y in ((a.superelement.K, b.superelement.K), (a.superelement.M, b.superelement.M)):
+            np.testing.assert_allclose(x, y, rtol=0, atol=1e-13 * np.abs(y).max())
     # every link's progress reached this process
     assert all(any(m.startswith(f"{name}: ") for m in said) for name in ("base", "column", "arm"))
     table = parallel.text().splitlines()

@@ -36,7 +36,7 @@ def _caches(monkeypatch, tmp_path):
     import os
 
     shared = os.environ.get("FLEXARM_TEST_CACHE")
-    monkeypatch.setenv("FLEXARM_CACHE", shared or str(tmp_path / "cache"))
+    monkeypatch.setenv("FLEXARM_CACHE", shared or os.environ["FLEXARM_CACHE"])
 
 
 # --- inputs ----------------------------------------------------------------------------

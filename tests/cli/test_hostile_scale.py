@@ -27,8 +27,9 @@ STATIC = example_path("static")
 def _caches(monkeypatch, tmp_path):
     import os
 
+    # the session's cache (conftest), never a folder inside the case's own output folder
     monkeypatch.setenv("FLEXARM_CACHE", os.environ.get("FLEXARM_TEST_CACHE")
-                       or str(tmp_path / "cache"))
+                       or os.environ["FLEXARM_CACHE"])
 
 
 def _tree(folder: Path) -> dict[str, bytes]:
