@@ -2,9 +2,12 @@
 
 An entry is one file ``<root>/<kind>/<key><suffix>`` plus a checksum file
 ``<key><suffix>.sha256``.  ``key`` is a SHA-256 digest of every input that changes the
-result, the cache layout version and the versions of the libraries that compute it
-(NumPy and SciPy always, the mesher where one is used), so an upgrade never reuses an
-entry made by other code.  Both files are written atomically, the checksum last: an
+result, the cache layout version, the installed flexarm version and the versions of the
+libraries that compute it (NumPy and SciPy always, the mesher where one is used), so an
+upgrade never reuses an entry made by other code: the entries of another flexarm are
+simply not found (one info line per cache folder says so).  Volume meshes a robot file
+pins (the demo arm's ``tets/*.vtu``) are files of the robot, not cache entries, and are
+read whatever the version.  Both files are written atomically, the checksum last: an
 entry whose checksum is missing or differs from the file's bytes (a killed write, a
 truncated or edited file) is not trusted, it is removed and computed again.
 
@@ -36,16 +39,21 @@ from typing import Any
 from .files import atomic_path, digest, file_digest
 
 __all__ = ["LAYOUT_VERSION", "Codec", "JSON", "BYTES", "PICKLE", "Cached", "cache_root",
-           "cache_key", "cached", "lookup", "library_versions", "package_digest"]
+           "cache_key", "cached", "lookup", "library_versions", "package_version",
+           "package_digest"]
 
 log = logging.getLogger(__name__)
 
 #: Version of the cache layout and of its key recipe; part of every key.
-LAYOUT_VERSION = 2
+LAYOUT_VERSION = 3
 #: Libraries whose versions enter every key.
 _BASE_LIBRARIES = ("numpy", "scipy")
 #: A ``.part`` file older than this [s] belongs to a process that died while writing.
 _STALE_PART_SECONDS = 3600.0
+#: File in the cache root naming the flexarm version that stored entries there last.
+_VERSION_FILE = "flexarm-version"
+#: (root, version) pairs whose version file this process has checked.
+_VERSIONS_SEEN: set = set()
 
 
 @dataclass(frozen=True)
@@ -137,6 +145,24 @@ def library_versions(libraries: tuple[str, ...] = ()) -> tuple[tuple[str, str], 
 
 
 @cache
+def package_version() -> str:
+    """The installed flexarm's version (its package metadata; ``flexarm.__version__``
+    when run from a source tree that is not installed).
+
+    Examples
+    --------
+    >>> package_version().count(".") >= 1
+    True
+    """
+    try:
+        return metadata.version("flexarm")
+    except metadata.PackageNotFoundError:
+        from .. import __version__
+
+        return __version__
+
+
+@cache
 def package_digest() -> str:
     """SHA-256 hex digest of every file of the installed flexarm package (its code and
     shipped data): the key part of a result that any change of the code may change.
@@ -159,8 +185,8 @@ def package_digest() -> str:
 
 def cache_key(kind: str, *parts, libraries: tuple[str, ...] = ()) -> str:
     """SHA-256 hex key of an entry of ``kind`` computed from ``parts`` (arrays hashed by
-    content, everything else by ``repr``) with ``libraries`` (PyPI names) at their
-    installed versions.
+    content, everything else by ``repr``) with the flexarm version
+    (:func:`package_version`) and ``libraries`` (PyPI names) at their installed versions.
 
     Examples
     --------
@@ -169,8 +195,8 @@ def cache_key(kind: str, *parts, libraries: tuple[str, ...] = ()) -> str:
     >>> len(cache_key("tets", 0.01, libraries=("pytetwild",)))
     64
     """
-    return digest("flexarm-cache", LAYOUT_VERSION, kind, library_versions(tuple(libraries)),
-                  *parts)
+    return digest("flexarm-cache", LAYOUT_VERSION, kind, ("flexarm", package_version()),
+                  library_versions(tuple(libraries)), *parts)
 
 
 def _checksum_path(path: Path) -> Path:
@@ -266,12 +292,35 @@ def cached(kind: str, key: str, compute: Callable[[], Any], codec: Codec = JSON,
             return Cached(value, path, True)
         value = compute()
         try:
+            _note_version(cache_root())
             _store(path, value, codec)
         except OSError as exc:
             _warn_unwritable(exc, path)
             return Cached(value, None, False)
     log.info("cache stored %s/%s", kind, path.name)
     return Cached(value, path, False)
+
+
+def _note_version(root: Path) -> None:
+    """Record which flexarm stores entries in ``root``; once per process, one info line
+    when another version stored there before (its entries have other keys: they are not
+    read, and this one computes its own)."""
+    version = package_version()
+    if (root, version) in _VERSIONS_SEEN:
+        return
+    _VERSIONS_SEEN.add((root, version))
+    marker = root / _VERSION_FILE
+    try:
+        before = marker.read_text().strip()
+    except (OSError, UnicodeDecodeError):
+        before = ""
+    if before == version:
+        return
+    if before:
+        log.info("cache %s holds entries of flexarm %s, not read by flexarm %s (deleting the "
+                 "folder frees their space)", root, before, version)
+    with atomic_path(marker) as tmp:
+        tmp.write_text(version + "\n")
 
 
 def _warn_unwritable(exc: OSError, path) -> None:

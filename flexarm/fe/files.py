@@ -25,8 +25,8 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_folder", "writes_folder", "write_npz", "umask_mode",
-           "file_digest", "digest"]
+__all__ = ["atomic_path", "atomic_folder", "atomic_files", "writes_folder", "write_npz",
+           "umask_mode", "file_digest", "digest"]
 
 log = logging.getLogger(__name__)
 
@@ -180,6 +180,49 @@ def atomic_folder(folder, last: str | None = None) -> Iterator[Path]:
         for parent in made if not done else ():
             with contextlib.suppress(OSError):
                 parent.rmdir()  # only if empty
+
+
+@contextlib.contextmanager
+def atomic_files(*paths) -> Iterator[tuple[Path, ...]]:
+    """Yield a temporary path for each of the files ``paths`` (in one folder or several);
+    they appear at their places only when the block completes, the first one last.
+
+    One :func:`atomic_folder` per folder: on any exception (Ctrl-C, a full disk) none of
+    the files is written, the older ones are kept and an OS error names the file at its
+    final place.  Other files the block writes beside a temporary path move in with it.
+    A path naming an existing folder raises :class:`IsADirectoryError` at once, a file
+    named twice :class:`ValueError` (one would overwrite the other).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> out = pathlib.Path(tempfile.mkdtemp())
+    >>> with atomic_files(out / "model.py", out / "data" / "model.npz") as (script, data):
+    ...     _ = data.write_bytes(b"arrays")
+    ...     _ = script.write_text("load('data/model.npz')")
+    ...     (out / "data").exists()
+    False
+    >>> sorted(p.relative_to(out).as_posix() for p in out.rglob("*"))
+    ['data', 'data/model.npz', 'model.py']
+    """
+    finals = [Path(p) for p in paths]
+    for path in finals:
+        if path.is_dir():  # found now, not by the move after all the work
+            raise IsADirectoryError(errno.EISDIR, "is a folder, not a file name", str(path))
+    named = [p.absolute() for p in finals]
+    twice = next((finals[i] for i, p in enumerate(named) if p in named[:i]), None)
+    if twice is not None:
+        raise ValueError(f"{twice}: named twice among the files to write")
+    folders = {}  # absolute folder -> as the caller spelt it (errors name it so)
+    for p, spelt in zip(named, finals, strict=True):
+        folders.setdefault(p.parent, spelt.parent)
+    first = named[0].parent
+    with contextlib.ExitStack() as stack:
+        # entered first, left last: the first file's folder receives its files last
+        tmps = {f: stack.enter_context(atomic_folder(
+                    spelt, last=finals[0].name if f == first else None))
+                for f, spelt in folders.items()}
+        yield tuple(tmps[p.parent] / p.name for p in named)
 
 
 def writes_folder(argument: str = "folder"):

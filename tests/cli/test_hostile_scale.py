@@ -41,6 +41,10 @@ def _full_disk(*args, **kwargs):
     raise OSError(errno.ENOSPC, "No space left on device")  # what write() raises
 
 
+def _interrupt(*args, **kwargs):
+    raise KeyboardInterrupt  # what Ctrl-C raises in the main thread
+
+
 def _half_then(exc):
     """A picture writer that leaves half a PNG, then fails with ``exc``."""
     def write(path, *args, **kwargs):
@@ -93,6 +97,92 @@ def test_diagnosis_history_is_whole_or_absent(tmp_path, monkeypatch):
     diagnosis = type("D", (), {"steps": [Step()], "accepted": []})()
     with pytest.raises(KeyboardInterrupt):
         history.write_history(tmp_path / "hist", diagnosis)
+    assert list(tmp_path.iterdir()) == []
+
+
+# --- export-exudyn and lab: every file or none ----------------------------------------
+#: A Craig-Bampton arm on the demo's pinned tetrahedra: a script, its assembly and one
+#: Exudyn file per link.
+EXUDYN = ["export-exudyn", "--model", "cb", "--mesh-size", "0.045", "--modes", "4",
+          "--pose", "P1", "--no-check", "-q"]
+#: A lab run with a universal file and its points table beside the static CSV.
+LAB = ["lab", "--poses", "P1", "--loads", "0:200:100", "--dirs", "z", "--n-modes", "2", "-q"]
+
+
+def _exudyn(monkeypatch, fault: str) -> str:
+    """Ctrl-C when the script is written last (the assembly and every link file written
+    by then), or the disk full in the first archive (a link file); returns the file the
+    error names."""
+    pytest.importorskip("exudyn", reason="Exudyn (pip install flexarm[mbs])")
+    from flexarm.studies.exudyn import standalone
+
+    if fault == "ctrl-c":
+        monkeypatch.setattr(standalone, "standalone_script", _interrupt)
+    else:
+        monkeypatch.setattr("numpy.lib.format.write_array", _full_disk)
+    return "arm_0_base.npz"
+
+
+def _lab(monkeypatch, fault: str) -> str:
+    """Ctrl-C in the static CSV, written last (the universal file and its points table
+    written by then), or the disk full in the points table, after the universal file."""
+    from flexarm.validation.lab import virtual_lab
+
+    if fault == "ctrl-c":
+        monkeypatch.setattr(virtual_lab, "write_static", _half_then(KeyboardInterrupt))
+    else:
+        monkeypatch.setattr("flexarm.validation.data.formats._table.csv.writer", _full_disk)
+    return "lab.points.csv"
+
+
+def _argv(command: str, folder: Path, other: bool = False) -> list[str]:
+    """The command writing into ``folder``; ``other``: other contents (another pose or
+    seed), so that a file written again is not the same bytes."""
+    if command == "export-exudyn":
+        return [*EXUDYN, *(["--pose", "P2"] if other else []), "-o", str(folder / "arm.py")]
+    return [*LAB, *(["--seed", "7"] if other else []), "--modal", str(folder / "lab.uff"),
+            "-o", str(folder / "lab.csv")]
+
+
+FAULTS = {"export-exudyn": _exudyn, "lab": _lab}
+
+
+@pytest.mark.parametrize("fault", ["ctrl-c", "full-disk"])
+@pytest.mark.parametrize("command", sorted(FAULTS))
+def test_multi_file_output_is_whole_or_absent(tmp_path, capsys, monkeypatch, command, fault):
+    named = FAULTS[command](monkeypatch, fault)
+    out = tmp_path / "new" / "model"
+    code = main(_argv(command, out))
+    err = capsys.readouterr().err
+    if fault == "ctrl-c":
+        assert (code, err.splitlines()[-1]) == (130, f"flexarm {command}: interrupted"), err
+    else:
+        assert code == 2
+        line = _last_error(err, command)
+        assert line == f"flexarm {command}: error: {out / named}: No space left on device"
+    assert list(tmp_path.iterdir()) == []  # no file, no folder made for them, no .part
+
+
+@pytest.mark.parametrize("fault", ["ctrl-c", "full-disk"])
+@pytest.mark.parametrize("command", sorted(FAULTS))
+def test_multi_file_output_keeps_the_older_complete_one(tmp_path, capsys, monkeypatch,
+                                                        command, fault):
+    assert main(_argv(command, tmp_path, other=True)) == 0
+    first = sorted(p.name for p in tmp_path.iterdir())
+    assert len(first) >= 4, first  # every part of the output, the script or CSV with them
+    (tmp_path / "notes.txt").write_text("the user's own file")
+    before = _tree(tmp_path)
+    FAULTS[command](monkeypatch, fault)
+    assert main(_argv(command, tmp_path)) == (130 if fault == "ctrl-c" else 2)
+    assert capsys.readouterr().err.strip().splitlines()[-1].startswith(f"flexarm {command}: ")
+    assert _tree(tmp_path) == before
+
+
+def test_lab_refuses_one_file_named_twice(tmp_path, capsys):
+    csv = tmp_path / "lab.csv"
+    assert main([*LAB, "--modal", str(csv), "-o", str(csv)]) == 2
+    line = _last_error(capsys.readouterr().err, "lab")
+    assert line == f"flexarm lab: error: {csv}: named twice among the files to write"
     assert list(tmp_path.iterdir()) == []
 
 

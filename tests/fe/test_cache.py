@@ -44,6 +44,52 @@ def test_key_covers_parts_kind_and_library_versions(monkeypatch):
     assert cache_key("k", a, 1.0) != base
 
 
+def test_key_covers_the_flexarm_version(monkeypatch):
+    a = np.arange(4.0)
+    base = cache_key("k", a, 1.0)
+    monkeypatch.setattr(cache, "package_version", lambda: "99.0")
+    upgraded = cache_key("k", a, 1.0)
+    monkeypatch.setattr(cache, "package_version", lambda: "99.0.post1")
+    assert len({base, upgraded, cache_key("k", a, 1.0)}) == 3
+    monkeypatch.undo()
+    assert cache_key("k", a, 1.0) == base
+
+
+def test_an_entry_of_another_flexarm_is_not_read(root, monkeypatch, caplog):
+    """An entry stored by another version (here of another schema, which the running code
+    could not read) is not found: computed again, with one info line and no warning."""
+    monkeypatch.setattr(cache, "_VERSIONS_SEEN", set())
+    monkeypatch.setattr(cache, "package_version", lambda: "0.0.9")
+    old = cached("mass-properties", cache_key("mass-properties", "link"),
+                 lambda: {"masse": 1.0})
+    assert (root / "flexarm-version").read_text() == "0.0.9\n"
+    monkeypatch.setattr(cache, "package_version", lambda: "1.0")
+    compute, count = _calls()
+    with caplog.at_level("INFO", logger="flexarm.fe.cache"):
+        new = cached("mass-properties", cache_key("mass-properties", "link"), compute)
+        cached("mass-properties", cache_key("mass-properties", "other link"), compute)
+        again = cached("mass-properties", cache_key("mass-properties", "link"), compute)
+    assert not new.is_hit and new.value == {"value": 42, "calls": 1} and new.path != old.path
+    assert again.is_hit and again.value == new.value and len(count) == 2
+    said = [r for r in caplog.records if "flexarm 0.0.9" in r.getMessage()]
+    assert len(said) == 1 and "\n" not in said[0].getMessage()
+    assert str(root) in said[0].getMessage() and "flexarm 1.0" in said[0].getMessage()
+    assert not [r for r in caplog.records if r.levelname == "WARNING"]
+    assert (root / "flexarm-version").read_text() == "1.0\n" and old.path.is_file()
+    monkeypatch.setattr(cache, "package_version", lambda: "0.0.9")  # the older one still
+    assert cached("mass-properties", old.path.stem, compute).value == {"masse": 1.0}
+
+
+def test_pinned_volume_meshes_are_read_under_any_version(root, monkeypatch):
+    """The demo arm's shipped tetrahedra are files of the robot, not cache entries."""
+    from flexarm.assembly.link_meshes import meshed_link
+    from flexarm.robot import load_robot
+
+    monkeypatch.setattr(cache, "package_version", lambda: "99.0")
+    made = meshed_link(load_robot().links[2], 0.03)
+    assert made.mesher == "file" and made.mesh.n_tets > 1000
+
+
 def test_computed_once_then_read(root):
     compute, count = _calls()
     first = cached("kind", "abc", compute)

@@ -30,7 +30,7 @@ import numpy as np
 from ... import __version__
 from ...assembly.analyses import natural_frequencies
 from ...assembly.arm import Arm
-from ...fe.files import atomic_path, write_npz
+from ...fe.files import atomic_files, atomic_path, write_npz
 from ...fe.typing import ArrayLike, FloatArray, IntArray
 from ...robot.joints import joint_basis
 from ...robot.kinematics import link_frames
@@ -202,26 +202,29 @@ def write_standalone(path, arm: Arm, q: ArrayLike, pose: str = "",
                      gravity: ArrayLike | None = GRAVITY, links: list | None = None,
                      progress: Callable[[str], None] | None = None) -> list[Path]:
     """Write the script ``path`` (``.py``), its ``.npz`` and the link files beside it
-    (module docstring), each atomically; returns the written paths, script first."""
+    (module docstring), every file or none (:func:`~flexarm.fe.files.atomic_files`:
+    Ctrl-C or a full disk leave an older export as it was), the script last; returns
+    the written paths, script first."""
     path = Path(path)
     if path.suffix != ".py":
         raise ValueError(f"{path}: the Exudyn model is written as a Python script (.py)")
     require_exudyn()
     links = ffrf_links(arm, progress) if links is None else links
     sa = standalone_arm(arm, q, links, path.stem, gravity, pose=pose)
-    written = [path, path.with_suffix(".npz")]
-    for name, link in zip(sa.link_files, links, strict=True):
-        if link is not None:
-            written.append(_write_link(path.with_name(str(name)), link))
-    with atomic_path(written[1]) as tmp:
-        write_npz(tmp, asdict(sa))
-    with atomic_path(path) as tmp:
-        tmp.write_text(standalone_script(written[1].name, sa.info, sa.gravity))
+    flexible = [(path.with_name(str(name)), link)
+                for name, link in zip(sa.link_files, links, strict=True) if link is not None]
+    written = [path, path.with_suffix(".npz"), *(p for p, _ in flexible)]
+    with atomic_files(*written) as (script, data, *link_files):
+        for tmp, (_, link) in zip(link_files, flexible, strict=True):
+            _write_link(tmp, link)
+        with atomic_path(data) as tmp:
+            write_npz(tmp, asdict(sa))
+        with atomic_path(script) as tmp:
+            tmp.write_text(standalone_script(written[1].name, sa.info, sa.gravity))
     return written
 
 
-def _write_link(path: Path, link: FFRFLink) -> Path:
+def _write_link(path: Path, link: FFRFLink) -> None:
     cms = ffrf_interface(link)
     with atomic_path(path) as tmp:
         cms.SaveToFile(str(tmp))  # Exudyn keeps a name ending in .npz as it is
-    return path

@@ -14,7 +14,7 @@ from __future__ import annotations
 import json
 import logging
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import astuple, dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +23,7 @@ from ...assembly.effects import ADDED, added_deflection, apply_effects, measured
 from ...assembly.linkflex import links_arm, split_links
 from ...assembly.statics import joint_moments, relative_deflection
 from ...assembly.system import ArmModel
-from ...fe.files import atomic_path
+from ...fe.files import atomic_files
 from ...fe.quantities import Quantity
 from ...fe.typing import ArrayLike, PathType
 from ...robot.description import Robot, pose_from_string
@@ -91,18 +91,25 @@ def virtual_lab(arm: ArmModel, plan: LabPlan, effects: list[Effect] = (), noise:
                       sigma=sigma if noise > 0 else None)
 
 
+#: First comment line of every file the lab writes.
+_COMMENT = "virtual lab data (flexarm lab)"
+
+
 def write_lab(path, data: StaticData, truth: dict) -> tuple[Path, Path]:
-    """Write the data file and ``<stem>.truth.json`` next to it; returns both paths."""
+    """Write the data file and ``<stem>.truth.json`` next to it, both or neither
+    (:func:`~flexarm.fe.files.atomic_files`); returns both paths."""
     path = Path(path)
-    write_static(path, data, comments=("virtual lab data (flexarm lab)",))
     tpath = path.with_suffix(".truth.json")
-    with atomic_path(tpath) as tmp:
-        tmp.write_text(json.dumps(truth, indent=2, sort_keys=True))
+    with atomic_files(path, tpath) as (tmp, ttmp):
+        _write_lab(tmp, ttmp, data, truth)
     return path, tpath
 
 
-#: First comment line of every file the lab writes.
-_COMMENT = "virtual lab data (flexarm lab)"
+def _write_lab(path: Path, tpath: Path, data: StaticData, truth: dict) -> None:
+    write_static(path, data, comments=(_COMMENT,))
+    tpath.write_text(json.dumps(truth, indent=2, sort_keys=True))
+
+
 #: Tracker noise and reference error [m] (``"15um"`` with a unit; a bare number is metres).
 _NOISE = Quantity("length", "m", 0, 0.01)
 
@@ -154,29 +161,37 @@ class LabResult:
 
     def write(self, path: PathType, modal_path: PathType | None = None) -> LabFiles:
         """The static CSV ``path`` with ``<stem>.truth.json`` next to it and, given
-        ``modal_path``, the modal CSV (all atomic)."""
-        modal = points = None
+        ``modal_path``, the modal CSV or universal file (with its points table): every
+        file or none (:func:`~flexarm.fe.files.atomic_files`; Ctrl-C or a full disk
+        leave the older files as they were)."""
+        path = Path(path)
+        files = LabFiles(path, path.with_suffix(".truth.json"))
         if modal_path is not None:
             if self.modal is None:
                 raise ValueError("this lab run has no modal data: run it with modal=True")
-            if Path(modal_path).suffix.lower() in UFF_EXTENSIONS:
-                modal, points = self._write_uff(Path(modal_path))
-            else:
-                modal = write_modal(modal_path, self.modal, (_COMMENT,))
-        static, truth = write_lab(path, self.data, self.truth)
-        return LabFiles(static, truth, modal, points)
+            modal_path = Path(modal_path)
+            is_uff = modal_path.suffix.lower() in UFF_EXTENSIONS
+            if is_uff and self.shapes is None:
+                raise ValueError("this lab run has no mode shapes: run it with modal=True")
+            files = replace(files, modal=modal_path,
+                            points=modal_path.with_suffix(".points.csv") if is_uff else None)
+        with atomic_files(*[p for p in astuple(files) if p is not None]) as tmps:
+            tmp = LabFiles(*tmps)  # the files asked for come first, in field order
+            if tmp.points is not None:
+                self._write_uff(tmp.modal, tmp.points, files.modal.name)
+            elif tmp.modal is not None:
+                write_modal(tmp.modal, self.modal, (_COMMENT,))
+            _write_lab(tmp.static, tmp.truth, self.data, self.truth)
+        return files
 
-    def _write_uff(self, path: Path) -> tuple[Path, Path]:
+    def _write_uff(self, path: Path, points: Path, name: str) -> None:
         """Geometry per pose (2411, 82), mode shapes (55, mass-normalised: modal mass 1)
         and FRFs (58) as a universal file
         (:mod:`~flexarm.validation.data.formats.uff_write`), and the points table
-        ``<stem>.points.csv`` next to it."""
-        if self.shapes is None:
-            raise ValueError("this lab run has no mode shapes: run it with modal=True")
-        uff = write_uff(path, self.shapes, self.frfs, self.geometry, modal_mass=1.0,
-                        description=_COMMENT)
-        return uff, write_points(path.with_suffix(".points.csv"), self.points,
-                                 (_COMMENT, f"measurement points of {path.name}"))
+        ``points`` of the file ``name``."""
+        write_uff(path, self.shapes, self.frfs, self.geometry, modal_mass=1.0,
+                  description=_COMMENT)
+        write_points(points, self.points, (_COMMENT, f"measurement points of {name}"))
 
     def text(self, files: LabFiles) -> str:
         """What the ``lab`` command prints after writing ``files``."""
