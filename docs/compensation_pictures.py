@@ -5,10 +5,12 @@ The lab arm is the demo arm with joint stiffness errors of +-30 % and a hidden j
 backlash of 0.1 mrad.  Its static series are diagnosed (the API of ``flexarm diagnose
 --apply``); the appendix-B module is compensated with the nominal and with the identified
 robot file (``flexarm compensate --split 30``) and each program is run in the lab
-(:func:`flexarm.studies.compensation.measure_program`).  Writes
-``docs/images/compensation_history.png`` (RMS radial deviation of each circle at each
-step of the loop) and ``docs/images/compensation_path30.png`` (the picture ``flexarm
-compensate`` writes, for Path_30 with the identified robot).
+(:func:`flexarm.studies.compensation.measure_program`), and the measured paths go through
+``flexarm history``'s function.  Writes ``docs/images/compensation_history.png`` (what
+``flexarm history`` draws: RMS and peak radial deviation of each circle at each step of
+the loop, and Path_30's polar deviation at each step) and
+``docs/images/compensation_path30.png`` (the picture ``flexarm compensate`` writes, for
+Path_30 with the identified robot).
 
 Run: ``python docs/compensation_pictures.py`` (about half a minute); ``--out DIR`` writes
 elsewhere.
@@ -20,10 +22,10 @@ import argparse
 import tempfile
 from pathlib import Path
 
-from flexarm.fe.plotting import pyplot, save_figure
 from flexarm.robot.demo_arm import load_demo_robot
 from flexarm.robot.effects import parse_effect
 from flexarm.studies.compensation import BallBar, compensate, loaded_arm, measure_program
+from flexarm.studies.compensation.history import path_history
 from flexarm.studies.contact.loaded_circle import THESIS_RAPID
 from flexarm.validation.lab.virtual_lab import run_lab
 from flexarm.validation.workflow import run_diagnosis
@@ -53,20 +55,14 @@ def make_pictures(out: Path, force: float = 800.0, seed: int = 1) -> list[Path]:
         picture = out / "compensation_path30.png"
         res = compensate(THESIS_RAPID, identified, bar, procs=["Path_30"], split_mm=30)
         res.write_plot(picture)
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(7, 4))
-    for k, p in enumerate(PROCS):
-        rms = [steps[s].run(p).rms() * 1e3 for s in steps]
-        ax.semilogy(range(len(steps)), rms, "o-", color=f"C{k}", label=p)
-    ax.axhline(15e-3, color="0.6", ls=":", label="tracker noise (15 µm)")
-    ax.set_xticks(range(len(steps)), list(steps), fontsize=8)
-    ax.set_ylabel("RMS radial deviation in the lab [mm]")
-    ax.set_title(f"Ball-bar circles at {force:.0f} N: measure, diagnose, compensate, measure",
-                 fontsize=9)
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    history = save_figure(fig, out / "compensation_history.png", dpi=110, tight=True)
-    return [history, picture]
+        files, labels = [], []
+        for k, (label, lab) in enumerate(steps.items()):
+            files += lab.write(Path(tmp) / f"step{k}.csv")  # one path CSV per circle
+            labels += [label] * len(lab.runs)
+        history = path_history(files, THESIS_RAPID, labels)
+        print(history.text())  # noqa: T201
+        drawn = history.write_plot(out / "compensation_history.png")
+    return [drawn, picture]
 
 
 def main() -> None:

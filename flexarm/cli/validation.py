@@ -136,7 +136,8 @@ def _add_compare(p: argparse.ArgumentParser) -> None:
     p.add_argument("--program", default=None, help="a path CSV against this RAPID module's "
                    "programmed path (the original program): RMS and peak deviation")
     p.add_argument("--proc", default=None, help="with --program: the procedure (default: the "
-                   "one nearest to the readings)")
+                   "one the file names in a '# procedure:' comment, else the one nearest to "
+                   "the readings)")
 
 
 @command("compare", "model predictions vs measurements (static series, modal data, FRFs): "

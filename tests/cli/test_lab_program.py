@@ -41,7 +41,7 @@ def loop(tmp_path_factory):
               *HIDDEN, "--seed", "2", "-o", str(d / "after.csv"))
     before = cli("compare", str(d / "before.csv"), "--program", THESIS)
     after = cli("compare", str(d / "after.csv"), "--program", THESIS)
-    assert "Path_30 (the nearest to the readings)" in after
+    assert "Path_30 (named in the file)" in after  # the lab's "# procedure:" comment
     assert rms_mm(lab) == rms_mm(after)  # the lab and compare read the same path
     return d, rms_mm(before), rms_mm(after)
 

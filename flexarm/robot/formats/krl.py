@@ -14,7 +14,10 @@ The mapping, RAPID to KRL:
 * ``MoveL``/``MoveC``/``MoveJ``/``MoveAbsJ`` to ``LIN``/``CIRC``/``PTP``/``PTP``;
 * speeds: ``$VEL.CP`` [m/s] from the speeddata's TCP speed (``v100`` is 0.1 m/s, a
   ``\\V`` argument wins, ``vmax`` is the controller's ``$VEL_MA.CP``); point-to-point
-  moves run at the axis speeds ``BAS(#INITMOV)`` sets;
+  moves at ``$VEL_AXIS[1..6]`` [%] as asked, else :data:`DEFAULT_PTP_PERCENT` with a
+  comment saying so (RAPID gives ``MoveJ`` a TCP speed, not an axis share);
+* the payload: ``$LOAD`` (mass [kg], centre of mass [mm] and its axes, inertia
+  [kg m²]) from the tooldata's ``tload``; a comment where the program gives none;
 * zones: ``fine`` stops, ``zN`` approximates (``C_DIS`` with ``$APO.CDIS`` = the zone's
   TCP radius [mm]; ``C_PTP`` for point-to-point moves);
 * the tool: ``$TOOL`` from the instruction's ``tooldata`` (``tool0``: the flange);
@@ -23,6 +26,7 @@ The mapping, RAPID to KRL:
 
 Positions are written to 1e-6 mm and angles to 1e-10 deg.  A KRL ``REAL`` is single
 precision on the controller (about 0.1 µm at 1.5 m): far below any deflection.
+:func:`~flexarm.robot.formats.krl_read.read_krl` reads the pair back.
 """
 
 from __future__ import annotations
@@ -33,18 +37,21 @@ from pathlib import Path
 
 import numpy as np
 
-from ...fe.errors import ReadError
 from ...fe.files import atomic_path
 from ...fe.typing import ArrayLike, FloatArray, IntArray, PathType
 from ..quaternions import quat_normalize, quat_to_matrix
 from ..tolerances import tol
+from .krl_read import read_status_turn
 from .rapid_data import JointTarget, Motion, RapidModule, RobTarget
 
 __all__ = ["abc_from_matrix", "status_turn", "krl_texts", "write_krl", "read_status_turn",
-           "check_krl_name", "DEFAULT_STATUS_TURN"]
+           "check_krl_name", "DEFAULT_STATUS_TURN", "DEFAULT_PTP_PERCENT"]
 
 #: ``S`` and ``T`` of a target whose configuration is not known: the usual upright arm.
 DEFAULT_STATUS_TURN = (2, 0)
+#: ``$VEL_AXIS`` [% of each axis's maximum] when the program gives no PTP speed (a RAPID
+#: ``MoveJ`` speed is the TCP's): slow, for a first run.
+DEFAULT_PTP_PERCENT = 10.0
 #: Decimals of positions [mm] and angles [deg].
 POS_DECIMALS, ANGLE_DECIMALS = 6, 10
 _NAME = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]{0,23}\Z")
@@ -213,6 +220,20 @@ def _tool(module: RapidModule, m: Motion, where: str) -> np.ndarray:
     return T
 
 
+def _load(module: RapidModule, m: Motion) -> str:
+    """``$LOAD`` of the instruction's tooldata, or a comment line when it gives none."""
+    decl = None if m.tool.lower() == "tool0" else _declared(module, m.tool, "tooldata")
+    load = None if decl is None or decl.value is None or len(decl.value) < 3 \
+        else decl.value[2]
+    if load is None or not float(load[0]) > 0:
+        return (f"; $LOAD: {m.tool} gives no payload; the controller's is kept (set mass "
+                "[kg], centre of mass [mm] and inertia [kg m2] there)")
+    cm = _frame(np.asarray(load[1], float), quat_to_matrix(quat_normalize(
+        np.asarray(load[2], float))))
+    j = ",".join(f"{k} {_num(v, 9)}" for k, v in zip("XYZ", load[3:6], strict=True))
+    return f"$LOAD = {{M {_num(load[0], 9)},CM {{{cm}}},J {{{j}}}}}"
+
+
 def _ref(t, named: Mapping[str, str]) -> str:
     """The target as a motion argument: its declared name, else an inline aggregate."""
     key = t.name.lower()
@@ -238,6 +259,7 @@ def _routine(module: RapidModule, name: str, named, tool, where: str) -> list[st
                              "in the base frame (wobj0) only")
         T = _tool(module, m, where) if tool is None else tool
         setting("tool", f"$TOOL = {{{_frame(T[:3, 3], T[:3, :3])}}}")
+        setting("load", _load(module, m))
         kind = _KINDS[m.kind]
         zone, speed = _zone(module, m, where), _speed(module, m, where)
         if kind != "PTP":
@@ -250,10 +272,27 @@ def _routine(module: RapidModule, name: str, named, tool, where: str) -> list[st
     return [*lines, "END"]
 
 
+def _vel_axis(module: RapidModule, names, percent: float | None) -> list[str]:
+    """``$VEL_AXIS`` lines for the point-to-point moves of the procedures ``names``."""
+    if not any(_KINDS[m.kind] == "PTP" for p in names for m in module.procedure(p).motions):
+        return []
+    if percent is None:
+        why = ("; PTP axis speeds [% of each axis's maximum]: the program gives none (a "
+               f"RAPID MoveJ speed is the TCP's): {_num(DEFAULT_PTP_PERCENT, 3)} % for a "
+               "first run")
+        percent = DEFAULT_PTP_PERCENT
+    elif not 0 < percent <= 100:
+        raise ValueError(f"PTP speed {percent:g} %: expected 0 < % <= 100")
+    else:
+        why = "; PTP axis speeds [% of each axis's maximum], as asked"
+    return [why, *(f"$VEL_AXIS[{i}] = {_num(percent, 3)}" for i in range(1, 7))]
+
+
 def krl_texts(module: RapidModule, name: str, procs: Sequence[str] | None = None,
               tools: Mapping[str, ArrayLike] | None = None,
               status: Mapping[str, tuple[int, int]] | None = None,
-              header: Sequence[str] = ()) -> tuple[str, str]:
+              header: Sequence[str] = (),
+              ptp_percent: float | None = None) -> tuple[str, str]:
     """The ``.src`` and ``.dat`` texts of the procedures ``procs`` of ``module``.
 
     Parameters
@@ -270,6 +309,9 @@ def krl_texts(module: RapidModule, name: str, procs: Sequence[str] | None = None
         Lower-case robtarget name -> ``(S, T)`` (default :data:`DEFAULT_STATUS_TURN`).
     header : sequence of str
         Comment lines after the ``DEF``/``DEFDAT`` lines.
+    ptp_percent : float, optional
+        ``$VEL_AXIS[1..6]`` of the point-to-point moves [%] (default
+        :data:`DEFAULT_PTP_PERCENT`, with a comment saying the program gave none).
 
     Raises
     ------
@@ -315,9 +357,9 @@ def krl_texts(module: RapidModule, name: str, procs: Sequence[str] | None = None
         else:
             dat.append(f"DECL E6POS {written}={_e6pos(t, status.get(key, DEFAULT_STATUS_TURN))}")
     dat.append("ENDDAT")
-    src = ["&ACCESS RVP", "&REL 1", f"DEF {name}( )", *notes,
-           "BAS (#INITMOV,0 )", "$BASE = {X 0.0,Y 0.0,Z 0.0,A 0.0,B 0.0,C 0.0}",
-           *[f"{p}( )" for p in names], "END"]
+    src = ["&ACCESS RVP", "&REL 1", f"DEF {name}( )", *notes, "BAS (#INITMOV,0 )",
+           *_vel_axis(module, names, ptp_percent),
+           "$BASE = {X 0.0,Y 0.0,Z 0.0,A 0.0,B 0.0,C 0.0}", *[f"{p}( )" for p in names], "END"]
     for p in names:
         src += ["", *_routine(module, p, used, tools.get(p.lower()), where)]
     return "\n".join(src) + "\n", "\n".join(dat) + "\n"
@@ -326,7 +368,8 @@ def krl_texts(module: RapidModule, name: str, procs: Sequence[str] | None = None
 def write_krl(path: PathType, module: RapidModule, procs: Sequence[str] | None = None,
               tools: Mapping[str, ArrayLike] | None = None,
               status: Mapping[str, tuple[int, int]] | None = None,
-              header: Sequence[str] = ()) -> list[Path]:
+              header: Sequence[str] = (),
+              ptp_percent: float | None = None) -> list[Path]:
     """Write ``path`` (``.src``) and the ``.dat`` beside it (see :func:`krl_texts`);
     both texts are made before either file is written.  Returns the two paths.
 
@@ -340,7 +383,7 @@ def write_krl(path: PathType, module: RapidModule, procs: Sequence[str] | None =
     ['thesis.src', 'thesis.dat']
     """
     path = Path(path)
-    src, dat = krl_texts(module, path.stem, procs, tools, status, header)
+    src, dat = krl_texts(module, path.stem, procs, tools, status, header, ptp_percent)
     out = []
     for p, text in ((path.with_suffix(".src"), src), (path.with_suffix(".dat"), dat)):
         with atomic_path(p) as tmp:
@@ -348,32 +391,3 @@ def write_krl(path: PathType, module: RapidModule, procs: Sequence[str] | None =
         out.append(p)
     return out
 
-
-_DECL = re.compile(r"^\s*DECL\s+(?:E6POS|POS)\s+([A-Za-z_$][\w$]*)\s*=\s*\{([^}]*)\}",
-                   re.IGNORECASE | re.MULTILINE)
-
-
-def read_status_turn(path: PathType) -> dict[str, tuple[int, int]]:
-    """Lower-case name -> ``(S, T)`` of every ``E6POS``/``POS`` declaration of a ``.dat``
-    that gives them (a template: the configurations taught on the controller).
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> p = pathlib.Path(tempfile.mkdtemp()) / "t.dat"
-    >>> _ = p.write_text("DEFDAT t\\nDECL E6POS XP1={X 1,Y 2,Z 3,A 0,B 0,C 0,S 6,T 'B100011'}\\n")
-    >>> read_status_turn(p)
-    {'xp1': (6, 35)}
-    """
-    try:
-        text = Path(path).read_text(encoding="utf-8", errors="replace")
-    except OSError as exc:
-        raise ReadError(f"{path}: {exc.strerror or exc}") from None
-    out = {}
-    for m in _DECL.finditer(text):
-        parts = dict(re.findall(r"\b([ST])\s+('B[01]+'|\d+)", m.group(2), re.IGNORECASE))
-        parts = {k.upper(): int(v[2:-1], 2) if v.startswith("'") else int(v)
-                 for k, v in parts.items()}
-        if "S" in parts and "T" in parts:
-            out[m.group(1).lower()] = (parts["S"], parts["T"])
-    return out

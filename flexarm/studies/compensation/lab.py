@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ...assembly.arm import ArmSpec
+from ...fe.files import atomic_files
 from ...fe.typing import PathType
 from ...robot.formats.rapid import read_rapid
 from ...validation.data.formats import write_path
@@ -82,9 +83,14 @@ class LabRun:
 
     def write(self, path: PathType) -> list[Path]:
         """The readings as path CSVs (``step, x_mm, y_mm, z_mm, f_N``, what ``circle
-        --measured`` and ``compare --program`` read), atomically; returns the paths."""
-        return [write_path(p, d, [*self.about, f"procedure: {r.name}"])
-                for p, d, r in zip(self.paths(path), self.data, self.runs, strict=True)]
+        --measured``, ``compare --program`` and ``history`` read; a ``# procedure:``
+        comment names the procedure), all or none of them
+        (:func:`~flexarm.fe.files.atomic_files`); returns the paths."""
+        files = self.paths(path)
+        with atomic_files(*files) as tmps:
+            for tmp, d, r in zip(tmps, self.data, self.runs, strict=True):
+                write_path(tmp, d, [*self.about, f"procedure: {r.name}"])
+        return files
 
 
 def measure_program(truth: LoadedArm, robot, program: PathType, force: ForceSpec,

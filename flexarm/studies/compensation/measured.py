@@ -5,11 +5,14 @@ The last step of the loop (measure, diagnose, compensate, measure, compare): a p
 against the programmed path of a procedure of the *original* program: the deviation of
 each reading from the nearest point of the programmed path and, when the program is a
 circle, the radial deviation a ball bar reads (:class:`~.runs.PathRun`).  No model is
-involved: it is the figure the shop floor sees.
+involved: it is the figure the shop floor sees.  The procedure is the one asked for, else
+the one the file names in a ``# procedure: NAME`` comment (``lab --program`` writes it:
+two procedures may run the same circle), else the one nearest to the readings.
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,7 +25,7 @@ from ...validation.data.formats import read_measurements
 from ...validation.data.measurements import PathData
 from .runs import PathRun, circle_of, path_deviation
 
-__all__ = ["MeasuredPath", "compare_path"]
+__all__ = ["MeasuredPath", "compare_path", "named_procedure"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -36,18 +39,23 @@ class MeasuredPath:
     data, program : str
         The files compared (for the report).
     chosen : bool
-        The procedure was picked as the one nearest to the readings (no ``proc`` given).
+        The procedure was picked as the one nearest to the readings (neither given nor
+        named in the file).
+    named : bool
+        The procedure is the one the file names (:func:`named_procedure`).
     """
 
     run: PathRun
     data: str
     program: str
     chosen: bool = False
+    named: bool = False
 
     def text(self) -> str:
         """What ``compare --program`` prints (mm)."""
         r = self.run
-        how = " (the nearest to the readings)" if self.chosen else ""
+        how = " (the nearest to the readings)" if self.chosen else \
+            " (named in the file)" if self.named else ""
         what = "radial deviation from the programmed circle" if r.circle is not None \
             else "distance from the programmed path"
         lines = [f"{self.data}: {len(r.points)} readings against {r.name}{how} of "
@@ -58,6 +66,31 @@ class MeasuredPath:
                          f"deviation from {r.radial.min() * 1e3:+.4f} to "
                          f"{r.radial.max() * 1e3:+.4f} mm")
         return "\n".join(lines)
+
+
+def named_procedure(path: PathType) -> str | None:
+    """The procedure a path CSV names in a leading ``# procedure: NAME`` comment.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> p = os.path.join(tempfile.mkdtemp(), "m.csv")
+    >>> _ = open(p, "w").write("# lab\\n# procedure: Path_30\\nstep,x_mm,y_mm,z_mm,f_N\\n")
+    >>> named_procedure(p)
+    'Path_30'
+    """
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            for line in fh:
+                text = line.strip()
+                if text and not text.startswith("#"):
+                    return None  # the header: the comments are over
+                m = re.fullmatch(r"#\s*procedure:\s*(\w+)", text)
+                if m:
+                    return m.group(1)
+    except OSError:
+        return None  # the reader of the readings says what is wrong with the file
+    return None
 
 
 def _run(name: str, programmed: np.ndarray, points: np.ndarray) -> PathRun:
@@ -76,8 +109,8 @@ def compare_path(data: PathData | PathType, program: PathType, proc: str | None 
     program : path
         The RAPID module as programmed (the original, not its compensated version).
     proc : str, optional
-        The procedure; default: the one whose programmed path the readings lie nearest
-        to (RMS distance).
+        The procedure; default: the one the file names (:func:`named_procedure`), else
+        the one whose programmed path the readings lie nearest to (RMS distance).
     step_mm : float
         Sampling step of the programmed path [mm].
 
@@ -102,12 +135,17 @@ def compare_path(data: PathData | PathType, program: PathType, proc: str | None 
     ('Path_30', True, True)
     """
     where = str(data) if not isinstance(data, PathData) else "readings"
+    named = None
     if not isinstance(data, PathData):
+        named = named_procedure(data) if proc is None else None
         data = read_measurements(data)
     if not isinstance(data, PathData):
         raise ValueError(f"{where}: a {type(data).__name__} file; --program compares a path "
                          "CSV (step, x_mm, y_mm, z_mm, f_N) with the program")
     module = read_rapid(program)
+    if named is not None and named.lower() not in {p.lower() for p in module.procedures}:
+        named = None  # another program's procedure: the readings pick one
+    proc = named if proc is None else proc
     try:
         names = [proc] if proc is not None else \
             [p for p, pr in module.procedures.items() if pr.motions]
@@ -119,4 +157,4 @@ def compare_path(data: PathData | PathType, program: PathType, proc: str | None 
     runs = [_run(p.name, p.points_m, data.points) for p in paths.values()]
     best = min(runs, key=lambda r: float(np.sqrt(np.mean(np.sum(r.deviation**2, axis=1)))))
     return MeasuredPath(best, where if where == "readings" else Path(where).name,
-                        Path(program).name, proc is None)
+                        Path(program).name, len(runs) > 1, named is not None)

@@ -15,17 +15,19 @@ arm takes at the compensated target (:attr:`~.result.CompensationResult.joints`,
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 
 import numpy as np
 
+from ...fe.files import atomic_files
 from ...fe.typing import PathType
 from ...robot.formats.krl import check_krl_name, read_status_turn, status_turn, write_krl
 from ...robot.formats.poses_csv import module_poses, write_poses
 from .rapid_out import module_of_text, write_module_text
 
-__all__ = ["FORMATS", "program_format", "report_paths", "write_program"]
+__all__ = ["FORMATS", "program_format", "program_files", "report_paths", "output_files",
+           "write_program", "write_outputs"]
 
 #: Program format -> the output suffixes that imply it.
 FORMATS = {"rapid": (".mod", ".modx", ".prg"), "krl": (".src",), "csv": (".csv",)}
@@ -78,6 +80,19 @@ def report_paths(path: PathType, fmt: str, csv_path=None, png=None) -> tuple[Pat
     return Path(csv_path), path.with_suffix(".png") if png is None else Path(png)
 
 
+def program_files(path: PathType, fmt: str) -> list[Path]:
+    """The files a program of format ``fmt`` written to ``path`` makes: ``path``, and the
+    ``.dat`` beside a KRL ``.src``.
+
+    Examples
+    --------
+    >>> [p.name for p in program_files("out.src", "krl")]
+    ['out.src', 'out.dat']
+    """
+    path = Path(path)
+    return [path, path.with_suffix(".dat")] if fmt == "krl" else [path]
+
+
 def _status(res, template) -> dict[str, tuple[int, int]]:
     """Lower-case target -> (S, T): the template's, overridden where the joints are known."""
     if template is None or isinstance(template, Mapping):
@@ -92,9 +107,36 @@ def _status(res, template) -> dict[str, tuple[int, int]]:
     return out
 
 
+def _write_program(res, path: Path, fmt: str, status, ptp_percent) -> None:
+    if fmt == "rapid":
+        write_module_text(path, res.module_text, res.encoding)
+        return
+    module = module_of_text(res.module_text, res.encoding, res.source or "compensated.mod")
+    procs = [r.name for r in res.runs_before]
+    if fmt == "csv":
+        write_poses(path, module_poses(module, procs), res.header)
+        return
+    tools = {p: np.diag([1e3, 1e3, 1e3, 1.0]) @ T for p, T in res.tools.items()}
+    write_krl(path, module, procs, tools, status, res.header, ptp_percent)
+
+
+def _naming(tmp: Path, write: Callable[[Path], object]) -> None:
+    """``write(tmp)``, an OS error that names no file (a full disk's ``write``) naming
+    ``tmp``: the temporary folder's writer then names the file at its final place."""
+    try:
+        write(tmp)
+    except OSError as exc:
+        if exc.filename is not None or exc.strerror is None:
+            raise
+        raise OSError(exc.errno, exc.strerror, str(tmp)) from exc
+
+
 def write_program(res, path: PathType, fmt: str | None = None,
-                  template: PathType | Mapping | None = None) -> list[Path]:
+                  template: PathType | Mapping | None = None,
+                  ptp_percent: float | None = None) -> list[Path]:
     """Write the compensated program of ``res`` (:class:`~.result.CompensationResult`).
+
+    The files appear together or not at all (:func:`~flexarm.fe.files.atomic_files`).
 
     Parameters
     ----------
@@ -107,6 +149,9 @@ def write_program(res, path: PathType, fmt: str | None = None,
     template : path or mapping, optional
         A KRL ``.dat`` (or its :func:`~flexarm.robot.formats.krl.read_status_turn`)
         whose ``S``/``T`` are kept where the joints do not tell them.
+    ptp_percent : float, optional
+        KRL: ``$VEL_AXIS`` of the point-to-point moves [%] (default: a slow first run,
+        :data:`~flexarm.robot.formats.krl.DEFAULT_PTP_PERCENT`).
 
     Returns
     -------
@@ -123,12 +168,53 @@ def write_program(res, path: PathType, fmt: str | None = None,
     >>> [p.name for p in write_program(res, out)]
     ['comp.src', 'comp.dat']
     """
+    return write_outputs(res, path, fmt=fmt, template=template, ptp_percent=ptp_percent,
+                         reports=False)
+
+
+def output_files(path: PathType, fmt: str | None = None, csv_path: PathType | None = None,
+                 png: PathType | None = None) -> list[Path]:
+    """Every file :func:`write_outputs` writes: the program's, the CSV and the picture.
+
+    Raises
+    ------
+    ValueError
+        A file named twice (``--csv`` the program itself ...), or a name that is a folder:
+        found before any work.
+
+    Examples
+    --------
+    >>> [p.name for p in output_files("c.csv")]
+    ['c.csv', 'c_deviation.csv', 'c.png']
+    """
     fmt = program_format(path, fmt)
-    if fmt == "rapid":
-        return [write_module_text(path, res.module_text, res.encoding)]
-    module = module_of_text(res.module_text, res.encoding, res.source or "compensated.mod")
-    procs = [r.name for r in res.runs_before]
-    if fmt == "csv":
-        return [write_poses(path, module_poses(module, procs), res.header)]
-    tools = {p: np.diag([1e3, 1e3, 1e3, 1.0]) @ T for p, T in res.tools.items()}
-    return write_krl(path, module, procs, tools, _status(res, template), res.header)
+    files = [*program_files(path, fmt), *report_paths(path, fmt, csv_path, png)]
+    seen = [p.absolute() for p in files]
+    for k, p in enumerate(files):
+        if seen[k] in seen[:k]:
+            raise ValueError(f"{p}: named twice among the outputs (the program, --csv, --png)")
+        if p.is_dir():
+            raise ValueError(f"{p}: is a folder, not a file name")
+    return files
+
+
+def write_outputs(res, path: PathType, csv_path: PathType | None = None,
+                  png: PathType | None = None, fmt: str | None = None,
+                  template: PathType | Mapping | None = None,
+                  ptp_percent: float | None = None, reports: bool = True) -> list[Path]:
+    """The program (:func:`write_program`) and, with ``reports``, the per-target CSV and
+    the picture (default names :func:`report_paths`), all through one temporary folder
+    per output folder (:func:`~flexarm.fe.files.atomic_files`): every file appears, or
+    none (Ctrl-C, a full disk) and older ones are kept.  Returns the paths written.
+    """
+    fmt = program_format(path, fmt)
+    status = _status(res, template) if fmt == "krl" else None  # a bad template: nothing made
+    files = output_files(path, fmt, csv_path, png) if reports else program_files(path, fmt)
+    jobs: list[tuple[int, Callable[[Path], object]]] = [
+        (0, lambda p: _write_program(res, p, fmt, status, ptp_percent))]  # .dat with .src
+    if reports:
+        jobs += [(len(files) - 2, res.write_csv), (len(files) - 1, res.write_plot)]
+    with atomic_files(*files) as tmps:
+        for k, write in jobs:
+            _naming(tmps[k], write)
+    return files

@@ -194,21 +194,21 @@ class CompensationResult:
         return plot_compensation(self, path)
 
     def write_program(self, path: PathType, fmt: str | None = None,
-                      template: PathType | None = None) -> list[Path]:
+                      template: PathType | None = None,
+                      ptp_percent: float | None = None) -> list[Path]:
         """The compensated program as RAPID, KUKA KRL or a CSV of poses, by the suffix
         or ``fmt`` (:func:`~.program_out.write_program`)."""
         from .program_out import write_program
 
-        return write_program(self, path, fmt, template)
+        return write_program(self, path, fmt, template, ptp_percent)
 
     def write(self, module: PathType, csv_path: PathType | None = None,
               png: PathType | None = None, fmt: str | None = None,
-              template: PathType | None = None) -> list[Path]:
+              template: PathType | None = None,
+              ptp_percent: float | None = None) -> list[Path]:
         """The program (:meth:`write_program`), and the CSV and picture next to it
-        (default names :func:`~.program_out.report_paths`); returns the paths written."""
-        from .program_out import program_format, report_paths
+        (default names :func:`~.program_out.report_paths`), all or none of them
+        (:func:`~.program_out.write_outputs`); returns the paths written."""
+        from .program_out import write_outputs
 
-        fmt = program_format(module, fmt)
-        csv_path, png = report_paths(module, fmt, csv_path, png)
-        return [*self.write_program(module, fmt, template), self.write_csv(csv_path),
-                self.write_plot(png)]
+        return write_outputs(self, module, csv_path, png, fmt, template, ptp_percent)

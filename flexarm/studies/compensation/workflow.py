@@ -18,7 +18,7 @@ import numpy as np
 
 from ...assembly.arm import ArmSpec
 from ...fe.typing import PathType
-from ...robot.formats.rapid import RapidModule, RobTarget, read_rapid
+from ...robot.formats.rapid import RapidModule, RobTarget
 from ...robot.ik_path import TOOL0, rapid_conf, target_frames
 from ...robot.quaternions import quat_from_matrix
 from ..contact.ball_bar import default_pivot
@@ -29,8 +29,9 @@ from .forces import BallBar, ForceSpec, parse_force, path_wrenches, target_wrenc
 from .ik_batch import pose_errors
 from .limits import Limits, law_jumps, limit_hits, near_singular
 from .loaded import LoadedArm, law_rotations, loaded_arm
+from .path_in import read_program
 from .program import ProgramPath, program_paths
-from .rapid_out import module_of_text, read_module_text, rewrite_targets, written_pose
+from .rapid_out import module_of_text, rewrite_targets, written_pose
 from .result import CompensationResult, TargetShift
 from .runs import run_program
 
@@ -45,6 +46,7 @@ def procedure_pivot(force: ForceSpec, module, name: str):
 
     Examples
     --------
+    >>> from flexarm.robot.formats.rapid import read_rapid
     >>> from flexarm.studies.contact.loaded_circle import THESIS_RAPID
     >>> (procedure_pivot(BallBar(800.0), read_rapid(THESIS_RAPID), "Path_40") * 1e3).round(2)
     array([1333.34,   47.78,  588.13])
@@ -191,13 +193,15 @@ def compensate(program: PathType, robot=None, force: ForceSpec | str | None = No
                spec: ArmSpec = ArmSpec(),  # noqa: B008 (frozen dataclass)
                effects: Sequence = (), tool=None, gravity: bool = True, pivot=None,
                step_mm: float = 2.0, split_mm: float | None = None, arm=None,
+               orientation=None,
                progress: Callable[[str], None] | None = None) -> CompensationResult:
     """Shift the robtargets of a RAPID program so that the loaded tool lands on the program.
 
     Parameters
     ----------
     program : path
-        RAPID module (``.mod``).
+        RAPID module (``.mod``), or a CSV of poses (``.csv``, read as a module by
+        :func:`~.path_in.read_program`: positions, and a quaternion or angles per row).
     robot : Robot, path or None
         The robot (e.g. the file ``diagnose --apply`` wrote); None: the demo arm.
     force : ForceSpec or str
@@ -225,6 +229,8 @@ def compensate(program: PathType, robot=None, force: ForceSpec | str | None = No
         the module's structure (only the robtargets change).
     arm : ArmModel, optional
         A model of ``robot`` already built.
+    orientation : (4,) float, optional
+        Quaternion ``[w, x, y, z]`` of every pose of a CSV that gives positions only.
 
     Returns
     -------
@@ -248,8 +254,7 @@ def compensate(program: PathType, robot=None, force: ForceSpec | str | None = No
     force = parse_force(force, pivot) if isinstance(force, str) else force
     if pivot is not None and isinstance(force, BallBar) and force.pivot is None:
         force = BallBar(force.force, force.pull, tuple(np.asarray(pivot, float)))
-    text, encoding = read_module_text(program)
-    module = read_rapid(program)
+    text, encoding, module = read_program(program, robot, tool, orientation)
     la = loaded_arm(robot, effects, spec, gravity, arm, progress=progress)
     split_notes: list[str] = []
     if split_mm is not None:

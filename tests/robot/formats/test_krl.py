@@ -65,6 +65,10 @@ def test_speeds_zones_tool_and_inline_targets(cell):
     tool = Rotation.from_euler("ZYX", [0, 90, 0], degrees=True).as_matrix()
     assert abc_from_matrix(tool).round(9).tolist() == [0.0, 90.0, 0.0]
     assert body[1] == "$TOOL = {X 0.0,Y 0.0,Z 150.0,A 0.0,B 90.0,C 0.0}"
+    # the tooldata's tload: 20 kg, centre of mass 75 mm out, no inertia given
+    assert body[2] == "$LOAD = {M 20.0,CM {X 0.0,Y 0.0,Z 75.0,A 0.0,B 0.0,C 0.0},J {X 0.0," \
+                      "Y 0.0,Z 0.0}}"
+    body = body[:2] + body[3:]
     assert body[2].startswith("PTP p10  ;")  # fine: no approximation
     assert body[3:6] == ["$VEL.CP = 0.035", "$APO.CDIS = 2.5"] + body[5:6]
     assert body[5].startswith("LIN p20 C_DIS")
@@ -72,6 +76,12 @@ def test_speeds_zones_tool_and_inline_targets(cell):
     assert body[6:8] == ["$VEL.CP = 0.0125", "$APO.CDIS = 5.0"]
     assert body[8].startswith("CIRC p30, {X 1100.0,Y -140.0,Z 500.0,A ") and " C_DIS" in body[8]
     assert body[9:11] == ["$VEL.CP = $VEL_MA.CP", "$APO.CDIS = 0.3"]  # vmax, z0 = 0.3 mm
+    # PTP axis speeds: the program gives none, so the slow default, said in a comment
+    head = src.split("DEF Cut( )")[0].splitlines()
+    assert head[head.index("BAS (#INITMOV,0 )") + 1].startswith("; PTP axis speeds")
+    assert [x for x in head if x.startswith("$VEL_AXIS")] == \
+        [f"$VEL_AXIS[{i}] = 10.0" for i in range(1, 7)]
+    assert "$VEL_AXIS[6] = 35.0" in krl_texts(cell, "cell", ptp_percent=35)[0]
     assert "DECL E6POS p20={X 1400.0,Y -150.0,Z 500.0," in dat and ",E1 250.0,E2 0.0" in dat
     assert dat.count("DECL E6POS") == 3
 

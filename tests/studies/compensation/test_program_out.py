@@ -3,7 +3,8 @@
 The KRL files are read back by a small parser of this test (no KRL parser is maintained
 on PyPI), independent of the writer: positions to 1e-6 mm, orientations to 1e-9 rad
 (scipy's ``Rotation.from_euler("ZYX", [A, B, C])`` against RAPID's quaternion), moves,
-speeds, zones and the tool as the module says.
+speeds, zones and the tool as the module says; and by flexarm's own reader
+(:func:`~flexarm.robot.formats.krl_read.read_krl`), with the payload and the PTP speeds.
 """
 
 import re
@@ -12,6 +13,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from flexarm.robot.formats.krl_read import read_krl
 from flexarm.robot.formats.poses_csv import module_poses, read_poses
 from flexarm.robot.formats.rapid import read_rapid
 from flexarm.robot.kinematics import link_frames
@@ -80,6 +82,36 @@ def test_krl_holds_the_rapid_targets_moves_and_speeds(written):
                 Q = Rotation.from_quat(np.roll(t.quat, -1))  # scipy is scalar last
                 assert (R.inv() * Q).magnitude() <= 1e-9
                 n += 1
+    assert n > 20
+
+
+def test_krl_read_back_by_flexarms_reader_equals_the_targets(written):
+    res, folder = written
+    module = read_rapid(folder / "comp.mod")
+    prog = read_krl(folder / "comp.src")
+    procs = [r.name for r in res.runs_before]
+    assert prog.calls == tuple(procs) and set(prog.routines) == set(procs)
+    assert [prog.main_settings[f"$VEL_AXIS[{i}]"] for i in range(1, 7)] == [10.0] * 6
+    n = 0
+    for p in procs:
+        motions = module.procedure(p).motions
+        moves = prog.routines[p]
+        assert [m.kind for m in moves] == [KINDS[m.kind] for m in motions]
+        for move, m in zip(moves, motions, strict=True):
+            assert (move.approx is None) == m.is_fine
+            for target, t in zip(move.targets, m.targets, strict=True):
+                pos, R = prog.pose(target)
+                assert np.abs(pos - t.pos_mm).max() <= 1e-6  # 1e-9 m
+                Q = Rotation.from_quat(np.roll(t.quat, -1))
+                assert (Rotation.from_matrix(R).inv() * Q).magnitude() <= 1e-9
+                n += 1
+            if move.kind != "PTP":
+                assert move.settings["$VEL.CP"] == pytest.approx(float(m.speed[1:]) * 1e-3)
+        load = moves[0].settings.get("$LOAD")
+        if p == "Path_30":
+            assert load is None  # tool0: no payload in the program, a comment says so
+        else:  # tSpindle's tload: 20 kg, centre of mass 75 mm out of the flange
+            assert load["M"] == 20.0 and [load["CM"][k] for k in "XYZ"] == [0.0, 0.0, 75.0]
     assert n > 20
 
 
