@@ -117,5 +117,42 @@ class Tolerances:
     #: load direction (every series stays in ``errors.csv``).
     table_max_rows: int = 60
 
+    #: EMA: modes one LSCF fit is given at most before a wide band is split into
+    #: sub-bands (one fit at the default order finds 7-10 of 25 modes over 5-800 Hz:
+    #: the receptance spans decades, and the columns of the diagram crowd).
+    ema_modes_per_band: int = 4
+    #: EMA: frequency lines one fit is given at most before the band is split.
+    ema_lines_per_band: int = 4000
+    #: EMA: a sub-band reaches this share of its own width into each neighbour [-]
+    #: (its modes near the edges are then fitted with their neighbours' tails).
+    ema_overlap: float = 0.3
+    #: EMA: LSCF order of a sub-band per expected mode in it, plus a margin (at most
+    #: ``--max-order``): enough for the modes and the tails, too few to fit the noise.
+    ema_order_per_mode: int = 4
+    ema_order_margin: int = 8
+    #: EMA: least rise of a peak of the mode indicator over its surroundings, in decades
+    #: of its magnitude, for it to count as an expected mode when bands are split [-].
+    ema_peak_prominence: float = 0.1
+    #: EMA: two poles of overlapping sub-bands are one mode when their frequencies differ
+    #: by less than this (relative) [-], ...
+    ema_merge_freq: float = 0.005
+    #: ... their damping ratios by less than this (relative) [-] ...
+    ema_merge_damping: float = 0.3
+    #: ... and the MAC of their residues exceeds this [-].
+    ema_merge_mac: float = 0.9
+    #: EMA: least weight of a line, as a share of the largest (a line of zero coherence
+    #: still keeps the normal equations of its FRF regular) [-].
+    ema_weight_floor: float = 1e-6
+    #: EMA: a band whose bottom lies below this share of its top is fitted with real
+    #: coefficients from 0 Hz (a mode's mirror pole sits close to it); one higher up
+    #: with complex ones on the band alone (zoomed, resolving close modes) [-].
+    ema_zoom_above: float = 0.1
+    #: EMA: pole refinement on the lines within this many ``zeta f`` of a pole [-] ...
+    ema_refine_window: float = 5.0
+    #: ... and on at least this many lines ...
+    ema_refine_lines: int = 30
+    #: ... and a pole moved by more than this (relative frequency) is not moved [-].
+    ema_refine_step: float = 0.01
+
 
 tol = Tolerances()

@@ -1,112 +1,84 @@
-"""Modal parameters from measured FRFs: LSCF poles, LSFD residues (sdypy-ema).
+"""Modal parameters from measured FRFs: LSCF poles, LSFD residues, wide bands split.
 
-The least-squares complex-frequency (LSCF, "PolyMAX"-family) estimator of sdypy-ema
-fits a common-denominator model to every FRF of a pose at model orders 2, 4, ...,
-``2 max_order``; its poles at successive orders give the stabilisation diagram.  The
-poles kept are picked automatically, as an analyst picks columns of the diagram: a
-pole is *stable* when the previous order has one within ``STABLE_FREQ`` in frequency
-and ``STABLE_DAMPING`` in damping ratio; stable poles within ``CLUSTER`` of each other
-form a column, and a column stable at ``min_stable`` of the orders is a mode (its pole
-at the highest order is taken).  LSFD (sdypy-ema) then fits the residues of those
-poles to every FRF, with lower and upper residual terms.  With several references,
-the residues of a mode form a rank-one matrix ``phi_out phi_ref^T``: its dominant
-left singular vector is the mode shape, turned real (normal-mode approximation) by
-the rotation that maximises its real part.
+The least-squares complex-frequency (LSCF, "PolyMAX"-family) estimator fits a
+common-denominator model to every FRF of a pose at orders 1, 2, ..., ``max_order``
+(:mod:`.ema_lsq`, with the band zoomed onto the unit circle); its poles at successive
+orders give the stabilisation diagram.  The poles kept are picked automatically, as an
+analyst picks columns of the diagram: a pole is *stable* when the previous order has
+one within ``STABLE_FREQ`` in frequency and ``STABLE_DAMPING`` in damping ratio; stable
+poles within ``CLUSTER`` of each other form a column, and a column stable at
+``min_stable`` of the orders is a mode (its medoid pole, the one nearest the column's
+median frequency, is taken: a noise pole that joins a column at a high order does not
+become the mode).  A wide band is split into overlapping sub-bands of a few expected
+modes each and their poles merged, one per mode (:mod:`.ema_bands`).  Each pole is then
+refined on the modal model's own residual around it, and LSFD fits the residues of the
+poles to every FRF over the whole band, with lower and upper residual terms.  With
+several references, the residues of a mode form a rank-one matrix ``phi_out
+phi_ref^T``: its dominant left singular vector is the mode shape, turned real
+(normal-mode approximation) by the rotation that maximises its real part.
 
-Modal mass: sdypy-ema's residues ``A`` are those of ``H = sum_r A_r / (i w - l_r) +
-conj``, so a mass-normalised real shape ``psi`` has ``psi psi^T = 2 i w_d A_r``.  At the
-driving points (an output that is also a reference) this gives ``psi_d^2``, and the unit
-shape ``u`` has the modal mass ``m = u_d^2 / psi_d^2`` (least squares over the driving
-points; 0, not known, without one): ``H = sum_r u u^T / (m_r (w_r^2 - w^2 + 2 i zeta_r
-w_r w))``.
+Lines are weighted in both least-squares steps by the inverse variance of an H1
+estimate, ``gamma^2 / (1 - gamma^2)`` of their coherence
+(:func:`~.frf_weights.coherence_weight`, floored at ``tol.ema_weight_floor`` of the
+largest) when the file has one for every FRF, and equally otherwise.
 
-Why a library: LSCF/LSFD is standard and sdypy-ema is its maintained open
-implementation (from pyEMA/OpenModal); only the automatic pole picking (a GUI in
-sdypy-ema) is ours.
+Modal mass: the residues ``A`` are those of ``H = sum_r A_r / (i w - l_r) + conj``, so a
+mass-normalised real shape ``psi`` has ``psi psi^T = 2 i w_d A_r``.  At the driving
+points (an output that is also a reference) this gives ``psi_d^2``, and the unit shape
+``u`` has the modal mass ``m = u_d^2 / psi_d^2`` (least squares over the driving points;
+0, not known, without one): ``H = sum_r u u^T / (m_r (w_r^2 - w^2 + 2 i zeta_r w_r w))``.
+
+Why our own estimator: sdypy-ema's LSCF (the maintained open implementation, from
+pyEMA/OpenModal) weights every line alike and maps the band from 0 Hz, so it can take
+neither an analyzer's coherence nor a narrow sub-band high up; the estimator is the
+textbook common-denominator one (Verboven, *Frequency-domain system identification for
+modal analysis*, PhD thesis, VUB 2002, ch. 5) and is checked against analytic modal sums
+in the tests.
 """
 
 from __future__ import annotations
 
-import contextlib
-import io
 import logging
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ...fe.errors import MissingDependencyError
 from ...fe.typing import PathType
 from ..data.formats.uff import UffFrf, UffOptions, read_uff
 from ..data.shape_data import ShapeData
+from ..tolerances import tol
+from .ema_bands import sub_bands
+from .ema_lsq import lsfd_residues, pole_freq_damping, refine_poles
+from .ema_poles import CLUSTER, STABLE_DAMPING, STABLE_FREQ, merged_poles, stable_poles
+from .frf_weights import coherence_weight
 
 __all__ = ["STABLE_FREQ", "STABLE_DAMPING", "CLUSTER", "PoseModes", "EmaResult",
-           "identify_modes", "run_ema", "stable_poles"]
+           "identify_modes", "run_ema", "stable_poles", "line_weights"]
 
 log = logging.getLogger(__name__)
-
-#: A pole is stable when the previous order has one this close in frequency [-] ...
-STABLE_FREQ = 0.01
-#: ... and in damping ratio [-] (relative).
-STABLE_DAMPING = 0.05
-#: Stable poles closer than this (relative frequency gap) form one column [-].
-CLUSTER = 0.005
-_MAX_DAMPING = 0.2  # poles more damped than this are numerical
-
-
-def _sdypy_model(H, freq, lower, upper, max_order):
-    try:
-        from sdypy import EMA
-    except ImportError:
-        raise MissingDependencyError("sdypy-ema", "modal parameters from FRFs") from None
-    model = EMA.Model(frf=H, freq=freq, lower=lower, upper=upper, pol_order_high=max_order,
-                      frf_form="receptance")
-    with contextlib.redirect_stderr(io.StringIO()):  # its progress bars
-        model.get_poles(method="lscf", show_progress=False)
-    return model
-
-
-def stable_poles(pole_freq, pole_xi, f_lo: float, f_hi: float) -> np.ndarray:
-    """(k, 4) rows ``(order index, pole index, freq [Hz], damping ratio)`` of the stable
-    poles of an LSCF run (``pole_freq``, ``pole_xi``: one array per order).
-
-    Examples
-    --------
-    >>> f = [np.array([10.0]), np.array([10.02, 30.0]), np.array([10.01, 31.0])]
-    >>> z = [np.array([0.02]), np.array([0.0201, 0.05]), np.array([0.0202, 0.05])]
-    >>> stable_poles(f, z, 1.0, 100.0)[:, :2].astype(int).tolist()
-    [[1, 0], [2, 0]]
-    """
-    rows = []
-    for j in range(1, len(pole_freq)):
-        fp, xp = np.asarray(pole_freq[j]), np.asarray(pole_xi[j])
-        fq, xq = np.asarray(pole_freq[j - 1]), np.asarray(pole_xi[j - 1])
-        ok = (xp > 0) & (xp < _MAX_DAMPING) & (fp >= f_lo) & (fp <= f_hi)
-        if not fq.size or not ok.any():
-            continue
-        near = (np.abs(fq[None, :] - fp[:, None]) < STABLE_FREQ * fp[:, None]) & \
-            (np.abs(xq[None, :] - xp[:, None]) < STABLE_DAMPING * xp[:, None])
-        k = np.flatnonzero(ok & near.any(axis=1))
-        rows.append(np.column_stack([np.full(len(k), j), k, fp[k], xp[k]]))
-    return np.concatenate(rows) if rows else np.zeros((0, 4))
-
-
-def _columns(stable: np.ndarray, n_orders: int, min_stable: float) -> np.ndarray:
-    """One pole per column of the diagram that is stable often enough."""
-    if not len(stable):
-        return np.zeros((0, 4))
-    s = stable[np.argsort(stable[:, 2], kind="stable")]
-    cols = np.split(s, np.flatnonzero(np.diff(s[:, 2]) / s[:-1, 2] > CLUSTER) + 1)
-    keep = [c[np.argmax(c[:, 0])] for c in cols
-            if len(np.unique(c[:, 0])) >= min_stable * n_orders]
-    return np.array(keep) if keep else np.zeros((0, 4))
-
 
 def _real_shape(u: np.ndarray) -> np.ndarray:
     """Real normal-mode approximation of a complex shape, largest entry positive."""
     u = u * np.exp(-0.5j * np.angle(np.sum(u**2)))
     r = u.real
     return r * np.sign(r[np.argmax(np.abs(r))])
+
+
+def line_weights(coherence) -> np.ndarray | None:
+    """(n, nf) weight of each FRF line from its coherence ``gamma^2``: ``gamma^2 / (1 -
+    gamma^2)``, at least ``tol.ema_weight_floor`` of the largest; None without one.
+
+    Examples
+    --------
+    >>> line_weights(np.array([[0.5, 0.9, 0.0]])).round(6).tolist()
+    [[1.0, 9.0, 9e-06]]
+    """
+    if coherence is None:
+        return None
+    W = coherence_weight(coherence)
+    top = float(np.max(W)) if W.size else 0.0
+    return np.maximum(W, tol.ema_weight_floor * top) if top > 0 else np.ones(W.shape)
 
 
 @dataclass(frozen=True, eq=False)
@@ -127,11 +99,17 @@ class PoseModes:
         FRFs of the identified modal model (with residual terms) [m/N]; NaN
         outside the fitted band.
     stable : (s, 4) float
-        Stable poles: order index, pole index, frequency [Hz], damping ratio.
+        Stable poles of every sub-band: order index (order - 1), pole index, frequency
+        [Hz], damping ratio.
     all_poles : list of (2, p) float
-        Frequency [Hz] and damping ratio of every pole per order (the diagram).
+        Frequency [Hz] and damping ratio of every pole per order (the diagram), the
+        sub-bands' poles side by side.
     modal_mass : (k,) float
         Modal mass of each unit shape (SI; 0 without a driving point).
+    bands : tuple of SubBand
+        The LSCF fits the band was split into (one: not split).
+    weighted : bool
+        Whether the lines were weighted by their coherence.
     """
 
     frf: UffFrf
@@ -144,6 +122,8 @@ class PoseModes:
     stable: np.ndarray
     all_poles: list
     modal_mass: np.ndarray | None = None
+    bands: tuple = ()
+    weighted: bool = False
 
 
 #: Fewest frequency lines in the band that an identification is tried on.
@@ -175,7 +155,8 @@ def _modal_masses(R: np.ndarray, shapes: np.ndarray, dofs: list, refs: list,
 
 
 def identify_modes(frf: UffFrf, f_lo: float | None = None, f_hi: float | None = None,
-                   max_order: int = 40, min_stable: float = 0.25) -> PoseModes:
+                   max_order: int = 40, min_stable: float = 0.25, *,
+                   split: str | int = "auto", weighted: bool = True) -> PoseModes:
     """LSCF poles and LSFD shapes from the FRFs of one pose.
 
     Parameters
@@ -186,9 +167,24 @@ def identify_modes(frf: UffFrf, f_lo: float | None = None, f_hi: float | None = 
     f_lo, f_hi : float, optional
         Band of the fit [Hz] (default: the measured lines).
     max_order : int
-        Highest LSCF order (model orders 2 ... ``2 max_order``).
+        Highest LSCF order (modes the denominator of one fit can hold).
     min_stable : float
         Share of the orders at which a column must be stable to be a mode [-].
+    split : "auto", "none" or int
+        Sub-bands of a wide band (:func:`~.ema_bands.sub_bands`).
+    weighted : bool
+        Weight the lines by their coherence when the FRFs have one.
+
+    Examples
+    --------
+    >>> f = np.arange(1.0, 200.0, 0.25)
+    >>> w, wr = 2 * np.pi * f, 2 * np.pi * np.array([[40.0], [120.0]])
+    >>> H = np.sum(1 / (wr**2 - w**2 + 0.02j * wr * w), axis=0)[None] * 1e6
+    >>> one = np.array([1])
+    >>> frf = UffFrf("P1", np.zeros(6), f, one, np.array(["z"]), one, np.array(["z"]), H)
+    >>> pm = identify_modes(frf)
+    >>> pm.freq_hz.round(4).tolist(), pm.damping.round(5).tolist()
+    ([40.0, 120.0], [0.01, 0.01])
     """
     lo, hi = _band(frf, f_lo, f_hi)
     n_lines = int(np.sum((frf.freq_hz >= lo) & (frf.freq_hz <= hi)))
@@ -198,45 +194,34 @@ def identify_modes(frf: UffFrf, f_lo: float | None = None, f_hi: float | None = 
                          f"measure or export the FRFs with more lines")
     live = np.abs(frf.H).max(axis=1) > 0  # DOFs that never move carry no information
     H, freq = frf.H[live], frf.freq_hz
-    model = _sdypy_model(H, freq, lo, hi, int(max_order))
-    stable = stable_poles(model.pole_freq, model.pole_xi, lo, hi)
-    picked = _columns(stable, len(model.pole_freq), min_stable)
-    if not len(picked):
+    W = line_weights(None if frf.coherence is None or not weighted else frf.coherence[live])
+    bands = sub_bands(freq, H, lo, hi, int(max_order), split, W, MIN_LINES)
+    poles, stable, diagram = merged_poles(freq, H, W, bands, min_stable)
+    if not len(poles):
         raise ValueError(f"pose '{frf.pose}': no stable pole between {lo:g} and {hi:g} Hz "
-                         f"up to order {2 * max_order}: give a wider --band or a higher "
+                         f"up to order {max_order}: give a wider --band or a higher "
                          f"--max-order, or measure more lines")
-    model.pole_ind = picked[:, :2].astype(int)
-    model.nat_freq, model.nat_xi = picked[:, 2], picked[:, 3]
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UserWarning)  # band edge clamped to a line
-        Hs, A = model.get_constants(method="lsfd", f_lower=lo, f_upper=hi)
+    poles = refine_poles(freq, H, poles, lo, hi, W)
+    poles = poles[np.argsort(pole_freq_damping(poles)[0])]
+    fn, zeta = pole_freq_damping(poles)
+    A, synth_live = lsfd_residues(freq, H, poles, lo, hi, W)
     outs = [f"{n}{d}" for n, d in zip(frf.out_nodes[live], frf.out_dirs[live], strict=True)]
     dofs = list(dict.fromkeys(outs))
     refs = list(dict.fromkeys(f"{n}{d}" for n, d in zip(frf.in_nodes[live], frf.in_dirs[live],
                                                         strict=True)))
     ins = [f"{n}{d}" for n, d in zip(frf.in_nodes[live], frf.in_dirs[live], strict=True)]
-    R = np.zeros((len(picked), len(dofs), len(refs)), complex)
+    R = np.zeros((len(poles), len(dofs), len(refs)), complex)
     R[:, [dofs.index(o) for o in outs], [refs.index(i) for i in ins]] = A.T
     U = np.linalg.svd(R)[0][:, :, 0]  # dominant left singular vector per mode
     shapes = np.array([_real_shape(u) for u in U])
-    mass = _modal_masses(R, shapes, dofs, refs,
-                         2 * np.pi * picked[:, 2] * np.sqrt(1 - picked[:, 3] ** 2))
+    mass = _modal_masses(R, shapes, dofs, refs, poles.imag)
     first = [outs.index(d) for d in dofs]
-    # sdypy-ema pads lines from 0 Hz and cuts at the band's top: align by frequency
-    synth = np.full(frf.H.shape, np.nan + 0j)
-    col = np.searchsorted(freq, model.freq)
-    on = (col < len(freq)) & np.isclose(freq[np.minimum(col, len(freq) - 1)], model.freq)
-    on &= (model.freq >= lo) & (model.freq <= hi)
-    rows = np.flatnonzero(live)
-    synth[np.ix_(rows, col[on])] = Hs[:, on]
-    synth[~live] = 0.0
-    log.info("ema pose %s: %d modes from %d FRFs", frf.pose, len(picked), int(live.sum()))
-    return PoseModes(frf, picked[:, 2], picked[:, 3], frf.out_nodes[live][first],
-                     frf.out_dirs[live][first], shapes, synth, stable,
-                     [np.array([f, x]) for f, x in zip(model.pole_freq, model.pole_xi,
-                                                       strict=True)], mass)
+    synth = np.zeros(frf.H.shape, complex)
+    synth[live] = synth_live  # NaN outside the band; DOFs that never move: 0
+    log.info("ema pose %s: %d modes from %d FRFs in %d band%s", frf.pose, len(poles),
+             int(live.sum()), len(bands), "s" if len(bands) > 1 else "")
+    return PoseModes(frf, fn, zeta, frf.out_nodes[live][first], frf.out_dirs[live][first],
+                     shapes, synth, stable, diagram, mass, tuple(bands), W is not None)
 
 
 @dataclass(frozen=True, eq=False)
@@ -287,17 +272,24 @@ class EmaResult:
                          nodes=nodes, dirs=dirs, shapes=np.concatenate(shapes))
 
     def text(self) -> str:
-        """Modes per pose (frequency, damping ratio) and the FRF fit's error."""
+        """Modes per pose (frequency, damping ratio) and the FRF fit's error; then how
+        each pose's band was fitted (sub-bands, coherence weights)."""
         from ...fe.text import text_table
 
-        rows = []
+        rows, notes = [], []
         for pm in self.poses:
             ok = np.isfinite(pm.synthesised)  # NaN: lines outside the fitted band
             err = np.linalg.norm((pm.synthesised - pm.frf.H)[ok]) / np.linalg.norm(
                 pm.frf.H[ok])
             for r, (f, z) in enumerate(zip(pm.freq_hz, pm.damping, strict=True)):
                 rows.append([pm.frf.pose, r + 1, f, 100 * z, 100 * err if r == 0 else ""])
-        return text_table(["pose", "mode", "freq_Hz", "zeta_%", "fit_err_%"], rows, "{:.3f}")
+            cuts = ", ".join(f"{b.core_lo:.1f}" for b in pm.bands[1:])
+            notes.append(f"fit of pose {pm.frf.pose}: "
+                         + (f"{len(pm.bands)} sub-bands cut at {cuts} Hz" if cuts else
+                            "one band")
+                         + ("; lines weighted by their coherence" if pm.weighted else ""))
+        return "\n".join([text_table(["pose", "mode", "freq_Hz", "zeta_%", "fit_err_%"], rows,
+                                      "{:.3f}"), *notes])
 
     def write_plots(self, stem) -> list:
         """``<stem>.stabilisation_<pose>.png`` and ``<stem>.frf_<pose>.png`` per pose."""
@@ -310,13 +302,25 @@ class EmaResult:
         return out
 
 
+def _what_it_holds(content) -> str:
+    """What a universal file without FRFs holds instead, and where that goes."""
+    parts = [f"{len(content.shapes.freq_hz)} mode shapes"] if content.shapes is not None else []
+    parts += ["test geometry"] if len(content.nodes) or content.geometry else []
+    held = f", only {' and '.join(parts)}" if parts else ""
+    return held + ("; mode shapes go to 'flexarm compare' as they are"
+                   if content.shapes is not None else "")
+
+
 def run_ema(path: PathType | list, f_lo: float | None = None, f_hi: float | None = None,
             max_order: int = 40, min_stable: float = 0.25,
-            uff: UffOptions | None = None) -> EmaResult:
+            uff: UffOptions | None = None, *, split: str | int = "auto",
+            weighted: bool = True) -> EmaResult:
     """Identify modes from the 58 FRFs of a universal file (or a list of
-    :class:`UffFrf`), pose by pose (:func:`identify_modes`); ``uff`` says what the file
-    does not (the pose it was measured at, what its ordinates are)."""
+    :class:`UffFrf`), pose by pose (:func:`identify_modes`, with its ``split`` and
+    ``weighted``); ``uff`` says what the file does not (the pose it was measured at,
+    what its ordinates are)."""
     geometry = ()
+    held = ""
     if isinstance(path, list | tuple):
         frfs = list(path)
     else:
@@ -324,7 +328,9 @@ def run_ema(path: PathType | list, f_lo: float | None = None, f_hi: float | None
         label, q = uff.pose if uff.pose is not None else (None, None)
         content = read_uff(path, label, q, uff.response)
         frfs, geometry = list(content.frfs), content.geometry
+        held = _what_it_holds(content)
     if not frfs:
-        raise ValueError(f"{path}: no FRFs (58 datasets) to identify modes from")
-    return EmaResult(tuple(identify_modes(f, f_lo, f_hi, max_order, min_stable)
-                           for f in frfs), geometry)
+        raise ValueError(f"{path}: no FRFs (58 datasets) to identify modes from{held}; "
+                         "export the measured FRFs (H1/H2, function type 4) for ema")
+    return EmaResult(tuple(identify_modes(f, f_lo, f_hi, max_order, min_stable, split=split,
+                                          weighted=weighted) for f in frfs), geometry)

@@ -12,14 +12,17 @@ __all__ = ["plot_stabilisation", "plot_synthesis"]
 
 
 def plot_stabilisation(path, pm) -> Path:
-    """Poles per model order (grey: all, blue: stable, red: picked) over the summed
-    FRF magnitude of the pose (:class:`~.ema.PoseModes` ``pm``)."""
+    """Poles per model order (grey: all, blue: stable, red: picked; dotted: where the
+    sub-bands of a split band meet) over the summed FRF magnitude of the pose
+    (:class:`~.ema.PoseModes` ``pm``)."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 4.5))
     for j, (f, _) in enumerate(pm.all_poles):
-        ax.plot(f, np.full(len(f), 2 * (j + 1)), ".", ms=2, color="0.75")
+        ax.plot(f, np.full(len(f), j + 1), ".", ms=2, color="0.75")
     s = pm.stable
-    ax.plot(s[:, 2], 2 * (s[:, 0] + 1), "o", ms=3, mfc="none", color="C0", label="stable")
+    ax.plot(s[:, 2], s[:, 0] + 1, "o", ms=3, mfc="none", color="C0", label="stable")
+    for b in pm.bands[1:]:  # where a split band's fits meet
+        ax.axvline(b.core_lo, color="0.5", lw=0.8, ls=":")
     for f in pm.freq_hz:
         ax.axvline(f, color="C3", lw=0.8)
     ax.set_xlim(pm.frf.freq_hz[0], pm.frf.freq_hz[-1])

@@ -34,7 +34,7 @@ def _run(*argv) -> tuple[int, str, str]:
 def _refused_with_a_fix(code: int, err: str) -> None:
     lines = [line for line in err.splitlines() if line.strip()]
     assert code == 2 and len(lines) == 1, err
-    assert FIX.search(lines[0]), lines[0]
+    assert FIX.search(lines[0].split(": error: ", 1)[-1]), lines[0]  # not in the prefix
     assert "Traceback" not in err
 
 

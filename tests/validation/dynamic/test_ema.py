@@ -1,4 +1,4 @@
-"""EMA (LSCF + LSFD via sdypy-ema) on noisy model FRFs: frequencies, damping, shapes."""
+"""EMA (LSCF + LSFD) on noisy model FRFs: frequencies, damping, shapes."""
 
 from __future__ import annotations
 
@@ -11,8 +11,6 @@ from flexarm.validation.dynamic.ema import run_ema
 from flexarm.validation.dynamic.mac import mac
 from flexarm.validation.dynamic.shapes import default_points, model_shapes
 from flexarm.validation.lab.modal_lab import virtual_frfs
-
-pytest.importorskip("sdypy.EMA")
 
 #: 0.25 Hz lines up to 1.2 x the 6th mode at P1 (139 Hz).
 FREQ = 0.25 * np.arange(1, 669)
