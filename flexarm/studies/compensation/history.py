@@ -8,7 +8,8 @@ compensated with the nominal model, and compensated with the identified one.
 the RMS and the peak of the radial deviation (a circle, as a ball bar reads it) or of the
 distance from the path (any other path), and the gain over the first step.
 :class:`PathHistory` prints them, writes them as a CSV and draws them
-(:func:`~.plots.plot_history`: bars per step, and the polar deviation of each step).
+(:func:`~flexarm.studies.compensation.plots.plot_history`: bars per step, and the polar
+deviation of each step).
 """
 
 from __future__ import annotations
@@ -109,7 +110,8 @@ class PathHistory:
         return path
 
     def write_plot(self, path: PathType) -> Path:
-        """Bars per step and the polar deviation of each (:func:`~.plots.plot_history`)."""
+        """Bars per step and the polar deviation of each
+        (:func:`~flexarm.studies.compensation.plots.plot_history`)."""
         from .plots import plot_history
 
         return plot_history(self, path)
