@@ -5,13 +5,16 @@ Each step (:mod:`~flexarm.studies.demo_part`, :mod:`~flexarm.studies.demo_models
 output folder and returns a frozen :class:`~flexarm.studies.demo_results.StepResult`
 with the lines it adds to ``index.md``; a step whose optional part (e.g. off-screen
 rendering) is unavailable says so in the index instead of failing the whole demo.
-Expensive results (tetrahedra, superelements) come from the on-disk cache, so a warm
-run is quick.  This module runs the steps, in order or two processes wide.
+Expensive results come from the on-disk cache, so a warm run is quick: superelements,
+pictures and the demo's own results (diagnosis, maps, accuracy study:
+:mod:`~flexarm.studies.demo_cache`).  This module runs the steps, in order or two
+processes wide.
 """
 
 from __future__ import annotations
 
 import logging
+import sys
 import time
 from pathlib import Path
 
@@ -48,8 +51,11 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     jobs : int
         Processes to use: with 2 or more, the E-model and measurement steps (which need
         no superelements) run in a second process while the flexible-arm step runs
-        here, and the off-screen render probe starts at once in the background.  ``1``
-        runs everything in order in this process.  The index is the same either way.
+        here, and the off-screen render probe starts at once in the background.  The
+        second process is forked where that is safe (Linux, no other thread running,
+        BLAS threads on pthreads), after the modules both need are loaded here once;
+        else spawned.  ``1`` runs everything in order in this process.  The index is
+        the same either way.
 
     Returns
     -------
@@ -94,43 +100,75 @@ def _can_spawn() -> bool:
 
 def _run_parallel(out: Path, progress: Progress, size: float,
                   part: bool) -> list[StepResult]:
-    """Flexible arm here; E-model and measurements in a spawned worker (same index)."""
+    """Flexible arm here; E-model and measurements in a second process (same index)."""
     import multiprocessing
     import threading
     from concurrent.futures import ProcessPoolExecutor
 
-    from ..assembly.emodel import total_mass
     from ..reduction.render import prefetch_render_backend
-    from ..robot import load_robot
 
-    prefetch_render_backend()
-    # Mesh every link here first (reads the caches when warm): the worker's E-model mass
-    # properties and this process's superelements must come from the same tetrahedra,
-    # and pytetwild gives a different mesh each time it runs.
-    robot = load_robot()
-    progress("arm: tetrahedral meshes of the links (cached after the first run)")
-    total_mass(robot, "tets", robot.options.mesh_size)
-    # spawn, not fork: this process may already hold MKL/OpenMP threads.
-    ctx = multiprocessing.get_context("spawn")
+    ctx = multiprocessing.get_context("fork" if _ready_to_fork() else "spawn")
     queue = ctx.SimpleQueue()
-
-    def relay():
-        while (line := queue.get()) is not None:
-            progress(line)
-
-    relay_thread = threading.Thread(target=relay, name="flexarm-demo-progress", daemon=True)
-    relay_thread.start()
+    relay_thread = threading.Thread(target=_relay, args=(queue, progress),
+                                    name="flexarm-demo-progress", daemon=True)
     try:
         with ProcessPoolExecutor(1, mp_context=ctx, initializer=_init_worker,
                                  initargs=(queue,)) as pool:
+            # The worker starts first (a fork copies this process, so no thread of ours
+            # may run yet): its start overlaps the work here.  Both processes read the
+            # same tetrahedra: the demo arm ships its link meshes (pinned volume meshes).
             future = pool.submit(_steps_job, str(out), ("emodel", "measurements"))
+            relay_thread.start()
+            prefetch_render_backend()
             first = [part_step(out, progress, size)] if part else []
             flexible = flexible_step(out, progress)
             emodel, measurements = future.result()
     finally:
         queue.put(None)
-        relay_thread.join()
+        if relay_thread.is_alive():
+            relay_thread.join()
     return [*first, emodel, flexible, measurements]
+
+
+def _ready_to_fork() -> bool:
+    """Whether the worker may be forked from here, with what both processes need loaded
+    here first (:func:`_load_shared`) when it may.
+
+    A forked worker starts with this process's modules loaded instead of importing them
+    again, which is most of a warm run.  It may be forked on Linux when no other thread
+    runs here (a fork copies the locks other threads hold, not the threads) and every
+    BLAS library loaded here runs its threads on plain pthreads (OpenBLAS restarts them
+    in the child; an OpenMP runtime that has run in the parent may hang there), checked
+    after the shared modules are loaded.  Else it is spawned.
+    """
+    import threading
+
+    if sys.platform != "linux" or threading.active_count() != 1:
+        return False
+    _load_shared()
+    from threadpoolctl import threadpool_info
+
+    return all(pool.get("threading_layer") == "pthreads" for pool in threadpool_info())
+
+
+def _load_shared() -> None:
+    """Before a fork: load once what both processes need (the robot description and the
+    mesh libraries its checks import, matplotlib, the validation layer, the package
+    digest the demo's cache keys use)."""
+    from .. import validation  # noqa: F401 - loaded for both processes
+    from ..fe.cache import package_digest
+    from ..fe.plotting import pyplot
+    from ..robot import load_robot
+
+    load_robot()
+    pyplot()
+    package_digest()
+
+
+def _relay(queue, progress: Progress) -> None:
+    """Hand the worker's progress lines to ``progress`` until a None arrives."""
+    while (line := queue.get()) is not None:
+        progress(line)
 
 
 #: Progress channel of a worker process (set by :func:`_init_worker`).

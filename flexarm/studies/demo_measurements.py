@@ -15,9 +15,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..assembly.arm import ArmSpec, build_arm
-from ..fe.cache import PICKLE, cache_key, cached, package_digest
 from ..fe.files import file_digest
 from ..robot import load_robot
+from .demo_cache import demo_result
 from .demo_results import Progress, StepResult
 
 if TYPE_CHECKING:
@@ -51,11 +51,9 @@ def measurement_step(out: Path, progress: Progress) -> StepResult:
     progress("measurements: nominal model vs lab data, then diagnosis")
     before = compare_static(arm, data)
     write_report(out / "measurements_v0", before)
-    # the diagnosis is the costly part of a warm demo: its result is kept, keyed by the
-    # data and by the package (code and shipped robot), so any change recomputes it
-    dg = cached("diagnosis", cache_key("demo-diagnosis", file_digest(data_path),
-                                       package_digest()),
-                lambda: diagnose(arm, data, poses=robot.poses), PICKLE).value
+    # the costly part of the step: kept between runs, keyed by the data and the package
+    dg = demo_result("diagnosis", lambda: diagnose(arm, data, poses=robot.poses),
+                     file_digest(data_path))
     write_history(out / "diagnosis", dg, before.rms, float(before.problem.sigma.mean()),
                   f"{before.model} at {before.poses}")
     write(out / "robot_v1.toml", robot_with_effects(robot, arm, dg.final_effects))

@@ -4,7 +4,9 @@ with a stiffness map over joints 2 and 3.
 
 Both steps build their arm with :func:`~flexarm.assembly.arm.build_arm` and report
 through the same API the ``compliance``, ``frf``, ``map``, ``compare-models``, ``study``
-and ``show-arm`` commands use.
+and ``show-arm`` commands use.  The stiffness maps and the accuracy study are kept
+between runs (:func:`~flexarm.studies.demo_cache.demo_result`); their tables and
+pictures are written every run.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from ..assembly.arm import Arm, ArmSpec, build_arm
 from ..assembly.build import LinkBuild
 from ..robot import load_robot
 from .compliance import ComplianceReport, compliance_report
+from .demo_cache import demo_result
 from .demo_results import Progress, StepResult, write_table
 
 __all__ = ["POSES", "emodel_step", "flexible_step"]
@@ -77,7 +80,7 @@ def flexible_step(out: Path, progress: Progress) -> StepResult:
     ``flexible_map/`` and the mode pictures ``arm_P1_mode1.gif``, ``arm_P1_mode2.png``
     into ``out``.
     """
-    from .arm_study import run_study
+    from .arm_study import run_study, write_study
     from .compare_models import compare_models
 
     robot = load_robot()
@@ -91,9 +94,14 @@ def flexible_step(out: Path, progress: Progress) -> StepResult:
     rows, figures = _flexible_poses(arm)
 
     progress("arm: accuracy study at P1 against the full-FE reference (cached after the first run)")
-    study = run_study(robot, "P1", sizes=(robot.options.mesh_size,), modes=(0, 5, 10),
-                      couplings=("rbe2", "rbe3"), out_dir=out / "study", tet10=True,
-                      progress=lambda s: progress(f"study: {s}"))
+    # the variants' times in the study (and its Pareto plot) are those of the run that
+    # computed it, as the build times of cached superelements are
+    sweep = {"sizes": (robot.options.mesh_size,), "modes": (0, 5, 10),
+             "couplings": ("rbe2", "rbe3"), "tet10": True}
+    study = demo_result("study", lambda: run_study(
+        robot, "P1", progress=lambda s: progress(f"study: {s}"), **sweep),
+        robot.full_repr(), sorted(sweep.items()))
+    write_study(study, out / "study")
 
     if study.discretisation is not None and study.discretisation.lower is not None:
         figures["flexible_mesh_error_min_pct"] = 100 * study.discretisation.lower
@@ -203,8 +211,10 @@ def _joint_map(out: Path, arm: Arm, name: str, n: int) -> tuple[float, list[str]
     from ..assembly.maps import limits_map, plot_map, write_csv
 
     robot = arm.robot
-    m = limits_map(arm.model, robot.pose("P1"), robot.lower, robot.upper, n,
-                   label=arm.spec.label, pose_name="P1")
+    m = demo_result(name, lambda: limits_map(arm.model, robot.pose("P1"), robot.lower,
+                                             robot.upper, n, label=arm.spec.label,
+                                             pose_name="P1"),
+                    robot.full_repr(), arm.spec, n)
     write_csv(out / f"{name}.csv", m)
     pngs = plot_map(m, out / name, surfaces=False)
     return float(m.least_stiff_share[1]), [f"  - ![{p.stem}]({name}/{p.name})" for p in pngs]

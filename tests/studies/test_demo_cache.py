@@ -1,0 +1,125 @@
+"""The demo's own results kept between runs (:mod:`flexarm.studies.demo_cache`), and the
+two-process run that reads them."""
+
+from __future__ import annotations
+
+import os
+import pickle
+import threading
+
+import numpy as np
+import pytest
+
+from flexarm.studies import demo
+from flexarm.studies.demo_cache import demo_result
+from flexarm.studies.demo_results import StepResult
+
+
+@pytest.fixture
+def own_cache(tmp_path, monkeypatch):
+    """An empty cache of this test's own."""
+    monkeypatch.setenv("FLEXARM_CACHE", str(tmp_path / "cache"))
+    return tmp_path / "cache"
+
+
+def test_computed_once_then_read_back_equal(own_cache):
+    calls = []
+
+    def compute():
+        calls.append(1)
+        return {"stiffness": np.linspace(1e6, 2e6, 7), "label": "E-model"}
+
+    first = demo_result("map", compute, "P1", 60)
+    second = demo_result("map", compute, "P1", 60)
+    assert len(calls) == 1
+    np.testing.assert_array_equal(first["stiffness"], np.linspace(1e6, 2e6, 7))
+    np.testing.assert_array_equal(second["stiffness"], first["stiffness"])
+    assert second["label"] == "E-model" and len(list((own_cache / "demo").glob("*.pkl"))) == 1
+
+
+def test_key_covers_name_inputs_and_package(own_cache, monkeypatch):
+    from flexarm.studies import demo_cache
+
+    calls = []
+
+    def compute():
+        calls.append(1)
+        return len(calls)
+
+    assert demo_result("map", compute, "P1", 60) == 1
+    assert demo_result("map", compute, "P1", 30) == 2  # another grid
+    assert demo_result("study", compute, "P1", 60) == 3  # another result
+    with monkeypatch.context() as edited:
+        edited.setattr(demo_cache, "package_digest", lambda: "0" * 64)  # edited code
+        assert demo_result("map", compute, "P1", 60) == 4
+    assert demo_result("map", compute, "P1", 60) == 1 and len(calls) == 4
+
+
+def test_the_computing_run_draws_what_later_runs_read(own_cache):
+    """A picture's cache key pickles what it draws.  An array read back from a pickle
+    has its own dtype object, which a pickle writes out again where NumPy's shared one
+    is referred back to, so the key of a picture drawn from a freshly computed array
+    differs from the key of the same picture drawn from the stored one: the first warm
+    run would draw every such picture again.  The computing run gets the stored value."""
+    fresh = np.arange(5.0)
+    first = demo_result("values", lambda: {"a": np.arange(5.0)}, "dtype")
+    second = demo_result("values", lambda: {"a": np.arange(5.0)}, "dtype")
+    drawn = [pickle.dumps((r["a"], np.zeros(2))) for r in (first, second)]
+    assert drawn[0] == drawn[1]
+    assert pickle.dumps((fresh, np.zeros(2))) != drawn[1]  # what the first run had drawn
+
+
+def test_unwritable_cache_still_gives_the_value(tmp_path, monkeypatch):
+    blocked = tmp_path / "file"
+    blocked.write_text("not a folder")
+    monkeypatch.setenv("FLEXARM_CACHE", str(blocked / "cache"))
+    assert demo_result("map", lambda: [1.5, 2.5], "P1") == [1.5, 2.5]
+
+
+def test_worker_is_forked_only_from_one_thread_on_pthreads_blas(monkeypatch):
+    import sys
+
+    import threadpoolctl
+
+    loaded = []
+    monkeypatch.setattr(demo, "_load_shared", lambda: loaded.append(1))
+    monkeypatch.setattr(sys, "platform", "linux")
+    monkeypatch.setattr(threading, "active_count", lambda: 1)
+    pools = [{"internal_api": "openblas", "threading_layer": "pthreads"}]
+    monkeypatch.setattr(threadpoolctl, "threadpool_info", lambda: pools)
+    assert demo._ready_to_fork() and len(loaded) == 1
+    pools.append({"internal_api": "openmp", "threading_layer": None})  # libgomp loaded
+    assert not demo._ready_to_fork()
+    pools.pop()
+    monkeypatch.setattr(threading, "active_count", lambda: 2)  # another thread runs
+    assert not demo._ready_to_fork()
+    monkeypatch.setattr(threading, "active_count", lambda: 1)
+    monkeypatch.setattr(sys, "platform", "darwin")
+    assert not demo._ready_to_fork() and len(loaded) == 2  # nothing loaded for a spawn
+
+
+def test_two_process_run_forks_the_worker_and_keeps_the_index_order(tmp_path, monkeypatch):
+    """jobs=2: the worker (forked, so it sees these stand-ins) runs the E-model and
+    measurement steps in another process and sends its progress lines back; the index
+    is in step order, as in one process."""
+    monkeypatch.setattr(demo, "_load_shared", lambda: None)
+    if not demo._ready_to_fork():
+        pytest.skip("the worker is spawned here: it would run the real steps")
+
+    def step(name):
+        def run(out, progress):
+            progress(f"{name}: running")
+            return StepResult([f"## {name}"], {f"{name}_pid": float(os.getpid())})
+        return run
+
+    monkeypatch.setitem(demo._WORKER_STEPS, "emodel", step("emodel"))
+    monkeypatch.setitem(demo._WORKER_STEPS, "measurements", step("measurement"))
+    monkeypatch.setattr(demo, "flexible_step", step("flexible"))
+    said = []
+    result = demo.run_demo(tmp_path / "out", progress=said.append, jobs=2)
+    assert result.lines == ("## emodel", "## flexible", "## measurement")
+    figures = dict(result.figures)
+    assert figures["flexible_pid"] == os.getpid()
+    assert figures["emodel_pid"] == figures["measurement_pid"] != os.getpid()
+    assert sorted(said) == ["emodel: running", "flexible: running", "measurement: running"]
+    assert (tmp_path / "out" / "index.md").read_text() == result.index_text()
