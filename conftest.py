@@ -17,6 +17,12 @@ def _session_cache(tmp_path_factory):
     """
     old = os.environ.get("FLEXARM_CACHE")
     keep = os.environ.get("FLEXARM_TEST_CACHE")
+    if keep is None and os.environ.get("PYTEST_XDIST_WORKER"):
+        # parallel workers share one folder (the cache is safe for concurrent writers), so
+        # each robot is meshed once, not once per worker
+        shared = tmp_path_factory.getbasetemp().parent / "flexarm_cache"
+        shared.mkdir(exist_ok=True)
+        keep = str(shared)
     os.environ["FLEXARM_CACHE"] = keep or str(tmp_path_factory.mktemp("flexarm_cache"))
     yield
     if old is None:

@@ -38,7 +38,7 @@ FORMER_HEADINGS = (
 def test_readme_is_short_and_its_links_resolve():
     text = README.read_text()
     assert len(text.splitlines()) < 150
-    assert "flexarm demo" in text and 'python -m pytest -q -m "not slow"' in text
+    assert "flexarm demo" in text and 'python -m pytest -q -m "not slow" -n auto' in text
     for target in re.findall(r"\]\(([^)#]+)\)", text):
         assert (ROOT / target).exists(), target
 
