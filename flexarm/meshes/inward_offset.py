@@ -9,13 +9,9 @@ in one of two ways:
     half-spaces moved inward by ``t``.  This *is* the inward offset of a convex body,
     exact to rounding, and takes milliseconds (qhull).
 ``"erosion"``
-    Any other closed surface: the morphological erosion ``S - (dS (+) B_t)`` with
-    manifold3d.  The swept ball is the union of one prism per face (``t`` either side
-    along the face normal: exact walls on every face and at convex edges) and of a
-    capsule around every concave edge, the hull of a geodesic polyhedron *inscribed* in
-    the ball at both ends.  Only there, where a casting has its fillets, the wall comes
-    out slightly thinner than ``t`` (at most 2.2 %, 0.7 % on average with the default
-    :data:`BALL_SEGMENTS`), never thicker.  Seconds for a few thousand faces.
+    Any other closed surface: the morphological erosion ``S - (dS (+) B_t)``
+    (:mod:`flexarm.meshes.erosion`: exact walls on every face and at convex edges, at
+    most 2.2 % thinner at concave ones; cached per surface and wall).
 
 Imports only :mod:`flexarm.fe` and :mod:`flexarm.meshes`.
 """
@@ -31,17 +27,14 @@ from scipy.optimize import linprog
 from scipy.spatial import ConvexHull, HalfspaceIntersection, QhullError
 
 from ..fe.errors import MeshError
+from .erosion import BALL_SEGMENTS, capsule_edges, eroded_cavity
 from .repair import check_surface, winding_number
 from .tolerances import tol
 
-__all__ = ["BALL_SEGMENTS"]
+__all__ = ["BALL_SEGMENTS"]  # re-exported from .erosion
 
 logger = logging.getLogger(__name__)
 
-#: Segments of the geodesic ball swept along concave edges (erosion only).  Its support
-#: falls short of the ball's by at most 2.2 % (mean 0.7 %) at 24, 4.5 % at 16, 1.3 % at 32;
-#: the cost grows with its square.
-BALL_SEGMENTS = 24
 #: Planes of the hull closer than this (normals; offsets over the largest extent) merge.
 _PLANE_DIGITS = 12
 #: Target size of the temporary (points x planes) arrays [elements].
@@ -103,20 +96,6 @@ def _face_depth_bound(triangles, normals, offsets) -> np.ndarray:
         depth = offsets - triangles[i:i + step] @ normals.T  # (f, 3, J)
         bound[i:i + step] = depth.max(axis=1).min(axis=1)
     return bound
-
-
-def _unit_ball(segments: int) -> np.ndarray:
-    """Vertices (n, 3) of manifold3d's geodesic unit sphere (on the sphere: inscribed)."""
-    from manifold3d import Manifold
-
-    mesh = Manifold.sphere(1.0, int(segments)).to_mesh64()
-    return np.array(mesh.vert_properties, dtype=np.float64)[:, :3]
-
-
-def _to_trimesh(solid) -> trimesh.Trimesh:
-    mesh = solid.to_mesh64()
-    vertices = np.array(mesh.vert_properties, dtype=np.float64)[:, :3]
-    return trimesh.Trimesh(vertices, np.array(mesh.tri_verts, dtype=np.int64), process=False)
 
 
 def _one_per_cluster(points: np.ndarray, radius: float) -> np.ndarray:
@@ -238,6 +217,7 @@ class _Solid:
         self._exact = {}  # face -> exact depth [m], from a linear programme each
         self._capsules = None  # edges that get a swept ball (erosion)
         self._inside = None  # whether the hull's inscribed-ball centre is inside
+        self._eroded = {}  # (thickness, segments, clean) -> eroded cavity bodies
         logger.debug(
             "%s: %d faces, convex=%s (vertex depth %.3g m, hull volume +%.3g %%), "
             "inradius %.4g m", name, len(self.faces), self.is_convex, self.depth,
@@ -307,51 +287,27 @@ class _Solid:
     def _capsule_edges(self) -> np.ndarray:
         """Vertex pairs (E, 2) of edges that need a swept ball: concave or unsure ones."""
         if self._capsules is None:
-            tri = self.vertices[self.faces]
-            cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-            twice_area = np.linalg.norm(cross, axis=1)
-            longest = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
-            # a needle or a point has no trustworthy normal: ball all three of its edges
-            degenerate = twice_area <= tol.hollow_needle_face * longest**2
-            normals = cross / np.where(degenerate, 1.0, twice_area)[:, None]
-            pairs = self.surface.face_adjacency
-            edges = self.surface.face_adjacency_edges
-            # height of face 1's far corner above face 0's plane: > 0 concave, 0 flat;
-            # flat (coplanar) edges are treated as concave, which only costs a capsule
-            far = self.vertices[self.surface.face_adjacency_unshared[:, 1]]
-            rise = np.einsum("ij,ij->i", normals[pairs[:, 0]],
-                             far - self.vertices[edges[:, 0]])
-            concave = (rise > -tol.hollow_flat_edge * self.size) | degenerate[pairs].any(axis=1)
-            ends = self.faces[degenerate]
-            bad_edges = np.concatenate([ends[:, [0, 1]], ends[:, [1, 2]], ends[:, [2, 0]]])
-            both = np.sort(np.vstack([edges[concave], bad_edges]), axis=1)
-            self._capsules = np.unique(both, axis=0)
+            self._capsules = capsule_edges(self.surface, self.size)
         return self._capsules
 
-    def _eroded_cavity(self, thickness: float, segments: int) -> list[trimesh.Trimesh]:
-        """Bodies [m] of the points at least ``thickness`` inside (empty list: none)."""
-        from manifold3d import Error, Manifold, Mesh64, OpType
+    def _eroded_cavity(self, thickness: float, segments: int,
+                       clean: bool = True) -> list[trimesh.Trimesh]:
+        """Bodies [m] of the points at least ``thickness`` inside (empty list: none);
+        ``clean``: fit to be written (:func:`~flexarm.meshes.erosion.eroded_cavity`)."""
+        key = (float(thickness), int(segments), clean)
+        if key not in self._eroded:
+            self._eroded[key] = eroded_cavity(self.surface, thickness, segments, self.name,
+                                              self._capsule_edges(), clean)
+        return self._eroded[key]
 
-        solid = Manifold(Mesh64(vert_properties=np.ascontiguousarray(self.vertices),
-                                tri_verts=self.faces.astype(np.uint64)))
-        if solid.status() != Error.NoError:
-            raise MeshError(f"{self.name}: manifold3d rejects the surface ({solid.status()})")
-        tri = self.vertices[self.faces]
-        cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
-        length = np.linalg.norm(cross, axis=1, keepdims=True)
-        normals = cross / np.where(length > 0, length, 1.0)
-        # one prism per face: every point within `thickness` of the face along its normal
-        # (a degenerate face gives a flat, empty hull; its edges carry capsules instead)
-        shift = thickness * normals[:, None, :]
-        prisms = np.concatenate([tri - shift, tri + shift], axis=1)
-        pieces = [Manifold.hull_points(p) for p in prisms]
-        ball = thickness * _unit_ball(segments)
-        ends = self.vertices[self._capsule_edges()]  # (E, 2, 3)
-        capsules = (ends[:, :, None, :] + ball).reshape(len(ends), -1, 3)
-        pieces += [Manifold.hull_points(c) for c in capsules]
-        cavity = solid - Manifold.batch_boolean(pieces, OpType.Add)
-        floor = tol.hollow_sliver_volume * self.size**3
-        return [_to_trimesh(c) for c in cavity.decompose() if c.volume() > floor]
+    def eroded_area(self, thickness: float, segments: int = BALL_SEGMENTS) -> float:
+        """Surface area [m^2] of the eroded cavity at ``thickness`` [m]: the rate at which
+        its volume shrinks as the wall grows (0 when nothing is left)."""
+        if thickness <= 0:
+            return float(self.surface.area)
+        if self._solid_at(thickness):
+            return 0.0
+        return sum(float(c.area) for c in self._eroded_cavity(thickness, segments, False))
 
     # ------------------------------------------------------------------------ both
     def _solid_at(self, thickness: float) -> bool:
@@ -367,7 +323,7 @@ class _Solid:
                 return 0.0
             if self._convex_ok(thickness):
                 return float(ConvexHull(points).volume)
-        return sum(float(c.volume) for c in self._eroded_cavity(thickness, segments))
+        return sum(float(c.volume) for c in self._eroded_cavity(thickness, segments, False))
 
     def cavity(self, thickness: float,
                segments: int = BALL_SEGMENTS) -> tuple[trimesh.Trimesh | None, str]:

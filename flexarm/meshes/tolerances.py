@@ -47,6 +47,12 @@ class Tolerances:
     #: Wall for a mass: relative margin on (solid parts + lumped masses) within which a
     #: target counts as the solid mass (returns the inscribed radius; above: too light).
     hollow_mass_match: float = 1e-12
+    #: Wall for a mass with eroded parts: Newton steps stop when the next step is below
+    #: this share of the wall [-] (4 um on a 4 mm wall: below the 0.7 % an erosion
+    #: takes off at concave edges).
+    hollow_wall_step: float = 1e-3
+    #: Wall for a mass with eroded parts: at most this many erosions per part.
+    hollow_wall_iterations: int = 6
     #: Corners of an inward-offset hull within this times the part size [-] of each other
     #: are one corner (keeps the cavity closed through a float32 STL and a repair).
     hollow_point_merge: float = 1e-5

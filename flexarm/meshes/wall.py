@@ -26,7 +26,7 @@ logger = logging.getLogger(__name__)
 
 def wall_for_mass(surfaces: Sequence[trimesh.Trimesh], densities, target_mass: float,
                   lumped_mass=0.0, *, ball_segments: int = BALL_SEGMENTS,
-                  xtol: float = 1e-9) -> float:
+                  xtol: float = 1e-9, names: Sequence[str] | None = None) -> float:
     """The one wall thickness at which the hollowed parts and the lumped masses weigh
     ``target_mass``.
 
@@ -47,6 +47,8 @@ def wall_for_mass(surfaces: Sequence[trimesh.Trimesh], densities, target_mass: f
         See :func:`~flexarm.meshes.hollow.hollow_surface` (non-convex parts only).
     xtol : float
         Absolute tolerance of the returned thickness [m].
+    names : sequence of str, optional
+        What to call each part in messages (default ``surface 0``, ``surface 1``, ...).
 
     Returns
     -------
@@ -75,7 +77,8 @@ def wall_for_mass(surfaces: Sequence[trimesh.Trimesh], densities, target_mass: f
     >>> round(t * 1e3, 6)  # [mm]
     12.0
     """
-    solids = [_Solid(s, f"surface {i}") for i, s in enumerate(surfaces)]
+    names = [f"surface {i}" for i in range(len(surfaces))] if names is None else names
+    solids = [_Solid(s, n) for s, n in zip(surfaces, names, strict=True)]
     if not solids:
         raise ValueError("wall_for_mass needs at least one surface")
     rho = _densities(densities, len(solids))
@@ -117,21 +120,49 @@ def _solve_wall(solids, rho, lumped, target, solid_mass, segments, xtol) -> floa
     """Wall [m] at which the shells of ``solids`` (densities ``rho``) weigh ``target`` [kg].
 
     The total mass grows continuously and monotonically with the wall, from the lumped
-    masses (no wall) to the solid parts plus the lumped masses; Brent's bracketing method
-    finds the crossing on the exact shell volumes (cheap for convex parts: milliseconds
-    per evaluation).
+    masses (no wall) to the solid parts plus the lumped masses.  Convex parts cost
+    milliseconds per wall, so Brent's bracketing method finds the crossing on their exact
+    shell volumes.  An eroded part costs seconds per wall: it enters as its cavity volume
+    at the last wall evaluated, shrinking at the rate of its cavity's area (the exact
+    derivative), which makes the outer loop Newton's method; it stops when the next step
+    is below ``xtol`` or :attr:`~flexarm.meshes.tolerances.Tolerances.hollow_wall_step`
+    of the wall, at the last wall evaluated (so hollowing at it reuses the erosion).
     """
-
-    def excess(t: float) -> float:
-        shells = [s.volume - s.cavity_volume(t, segments) if t > 0 else 0.0
-                  for s in solids]
-        return lumped + float(rho @ shells) - target
-
-    # at the largest inscribed radius every part is solid (mass = solid + lumped)
     t_max = max(s.inradius for s in solids)
     if target >= (lumped + solid_mass) * (1 - tol.hollow_mass_match):
         return t_max
+    costly = [i for i, s in enumerate(solids) if not s.is_convex]
+    # (wall, cavity volume, cavity area) of each eroded part: at no wall, the part itself
+    model = {i: (0.0, solids[i].volume, float(solids[i].surface.area)) for i in costly}
+
+    def cavity(i: int, t: float) -> float:
+        s = solids[i]
+        if t <= 0:
+            return s.volume  # no wall: all cavity
+        if i not in model:
+            return s.cavity_volume(t, segments)
+        if s._solid_at(t):
+            return 0.0
+        t_k, v_k, a_k = model[i]
+        return max(v_k - a_k * (t - t_k), 0.0)
+
+    def excess(t: float) -> float:
+        shells = [s.volume - cavity(i, t) for i, s in enumerate(solids)]
+        return lumped + float(rho @ shells) - target
+
     thickness = brentq(excess, 0.0, t_max, xtol=xtol)
+    for step in range(tol.hollow_wall_iterations):
+        if not costly:
+            break
+        for i in costly:
+            model[i] = (thickness, solids[i].cavity_volume(thickness, segments),
+                        solids[i].eroded_area(thickness, segments))
+        following = brentq(excess, 0.0, t_max, xtol=xtol)
+        logger.info("wall search, step %d: %.6g m, next %.6g m", step + 1, thickness,
+                    following)
+        if abs(following - thickness) <= max(xtol, tol.hollow_wall_step * thickness):
+            break
+        thickness = following
     logger.info("wall %.4g m gives %.6g kg", thickness, target)
     return float(thickness)
 

@@ -18,6 +18,7 @@ import numpy as np
 from ..fe.typing import FloatArray, PathType
 from ..meshes import load_surface
 from ..meshes.hollow import hollow_surface
+from ..meshes.tolerances import tol as tol_mesh
 from ..meshes.wall import bending_ratio, wall_for_mass
 from .description import Robot
 from .formats.urdf_meshes import write_derived
@@ -106,23 +107,45 @@ def hollow_links(robot: Robot, wall: float | str, mass_kg: float | None = None,
         if mass_kg is None:
             raise ValueError("a wall matched to the mass needs the robot's mass (--total-mass)")
         lumped = sum(m.mass for lk in robot.links for m in lk.lumped)
-        wall, matched = wall_for_mass(surfaces, rho, float(mass_kg), lumped), float(mass_kg)
+        wall = wall_for_mass(surfaces, rho, float(mass_kg), lumped,
+                             names=[f"links.{lk.name}" for lk in meshed])
+        matched = float(mass_kg)
     wall = float(wall)
     if not np.isfinite(wall) or wall <= 0:
         raise ValueError(f"wall thickness must be a positive length [m], got {wall}")
     folder = Path(out_dir) if out_dir is not None else None
     new_links, rows = dict(), []
     for lk, surface, density in zip(meshed, surfaces, rho, strict=True):
-        shell = hollow_surface(surface, wall, name=lk.name)
+        shell = hollow_surface(surface, wall, name=f"links.{lk.name}")
         rows.append(HollowedLink(lk.name, density * float(surface.volume),
                                  density * float(shell.volume), bending_ratio(surface, shell),
                                  bool(shell.is_solid)))
         if not shell.is_solid:
             path = write_derived(shell.mesh, folder if folder else _default_dir(), lk.name)
+            _check_written(path, shell.volume, lk, wall)
             new_links[lk.name] = replace(lk, mesh=path, units="m")
     log.info("links hollowed to %.1f mm walls", wall * 1e3)
     links = tuple(new_links.get(lk.name, lk) for lk in robot.links)
     return replace(robot, links=links), Hollowing(wall, matched, tuple(rows))
+
+
+def _check_written(path: Path, volume: float, link, wall: float) -> None:
+    """Read the shell back as ``flexarm build`` will and refuse, naming the link, a file
+    that does not come back closed with the volume it was written with."""
+    from ..fe.errors import MeshError
+
+    try:
+        back = load_surface(path)
+    except MeshError as exc:
+        path.unlink(missing_ok=True)  # nothing half-written is left for the next import
+        raise MeshError(f"links.{link.name}: its CAD ({link.mesh}) hollowed to "
+                        f"{wall * 1e3:.1f} mm walls does not read back closed ({exc}); "
+                        "import it without --wall, or with a thicker one") from None
+    if abs(float(back.volume) / volume - 1) > tol_mesh.tet_volume_warn:
+        path.unlink(missing_ok=True)
+        raise MeshError(f"links.{link.name}: its CAD ({link.mesh}) hollowed to "
+                        f"{wall * 1e3:.1f} mm walls reads back with {float(back.volume):.4g}"
+                        f" m^3 instead of {volume:.4g} m^3")
 
 
 def _default_dir() -> Path:

@@ -19,6 +19,7 @@ from ..robot.placeholder_stiffness import PlaceholderStiffness
 from ..robot.seat_review import MissingSeat, with_seats
 from ..robot.seats import find_seats
 from .import_stiffness import mass_line, sized_placeholders
+from .seat_check import pair_checks, pairs_line
 
 __all__ = ["ImportedRobot", "import_urdf", "derived_meshes_dir"]
 
@@ -31,7 +32,9 @@ class ImportedRobot:
     each moving link and the ``derived`` meshes written per link; ``missing`` holds the
     :class:`~flexarm.robot.seat_review.MissingSeat` s (seats not found on the CAD, each
     with its suggested region written for review); ``mesh_estimate`` says how long
-    ``flexarm build`` will mesh the hollowed links (empty without hollowing)."""
+    ``flexarm build`` will mesh the hollowed links (empty without hollowing); ``pairs``
+    holds the two seats of each joint checked against each other
+    (:class:`~flexarm.studies.seat_check.PairCheck`)."""
 
     robot: Robot
     solid_mass: float
@@ -44,6 +47,7 @@ class ImportedRobot:
     mass_note: str = ""
     missing: tuple = ()
     mesh_estimate: str = ""
+    pairs: tuple = ()
 
     @property
     def placeholder_joints(self) -> tuple[str, ...]:
@@ -89,6 +93,8 @@ class ImportedRobot:
                      f"suggested (review = true: {names})")
             lines.append(f"bearing seats: {found}, written out for review (`flexarm "
                          f"show-regions --robot {robot_file} -o DIR`)")
+            if self.pairs:
+                lines.append(pairs_line(self.pairs))
         if self.mass_note:
             lines.append(self.mass_note)
         if self.placeholder_joints:
@@ -188,10 +194,26 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
     else:
         rule_mass, source = mass, "CAD"
     robot, stiffness = sized_placeholders(robot, rule_mass, source, imported.effort)
+    pairs = _checked_pairs(robot) if regions else ()
     return ImportedRobot(robot, solid, mass, imported.tool_frame, imported.merged,
                          imported.derived, hollowing, stiffness,
                          mass_line(imported.inertial_mass, solid, mass_kg), missing,
-                         "" if hollowing is None else _mesh_estimate(robot))
+                         "" if hollowing is None else _mesh_estimate(robot), pairs)
+
+
+def _checked_pairs(robot: Robot) -> tuple:
+    """The seat pairs of the robot as written, one warning per pair that does not hold
+    (a pair with a seat not found is the missing seat's warning already)."""
+    from ..fe.errors import MeshError
+
+    try:
+        checks = pair_checks(robot)
+    except MeshError:  # a CAD that cannot be read: said already, by the seat search
+        return ()
+    for c in checks:
+        if c.problem and not c.pair.missing:
+            warnings.warn(c.warning(), stacklevel=3)
+    return checks
 
 
 def _mesh_estimate(robot: Robot) -> str:

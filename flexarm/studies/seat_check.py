@@ -11,14 +11,19 @@ review are listed by :func:`review_regions` (they may build, but nobody confirme
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 from ..assembly.build import link_regions
 from ..reduction.tolerances import tol as red_tol
 from ..robot.description import Robot
-from ..robot.seat_geometry import coupling_rank
+from ..robot.seat_geometry import NODE_AREA, coupling_rank
+from ..robot.seat_pairs import PAIR_GAP, SeatPair, seat_pairs
 from ..robot.seat_review import is_review
 from ..robot.seat_sample import link_sample
+from .show_pairs import MIN_PAIR_NODES
 
-__all__ = ["build_problems", "review_regions"]
+__all__ = ["PairCheck", "build_problems", "pair_checks", "pairs_line", "review_regions"]
 
 
 def build_problems(robot: Robot) -> tuple[str, ...]:
@@ -64,3 +69,80 @@ def review_regions(robot: Robot) -> tuple[str, ...]:
     """
     return tuple(f"{lk.name}:{n}" for lk in robot.links for n, r in lk.regions.items()
                  if is_review(r))
+
+
+@dataclass(frozen=True)
+class PairCheck:
+    """One joint's two seats on the CAD: their :class:`~flexarm.robot.seat_pairs.SeatPair`
+    (metres) and about how many FE nodes each would hold on a tet mesh of edge
+    ``mesh_size`` [m] (the seat's surface area over the area per node)."""
+
+    pair: SeatPair
+    parent_nodes: int
+    child_nodes: int
+    mesh_size: float
+
+    @property
+    def problem(self) -> str:
+        """What is wrong with the pair on the CAD, in one phrase ("" when the seats face
+        each other; the node counts are estimates, for ``flexarm build`` to check)."""
+        return "" if self.pair.ok else self.pair.status
+
+    @property
+    def few_nodes(self) -> bool:
+        """Whether either side would hold fewer than the pair check's nodes (estimate)."""
+        return min(self.parent_nodes, self.child_nodes) < MIN_PAIR_NODES
+
+    def warning(self) -> str:
+        """One line naming the joint, its links and what is wrong (the gap)."""
+        p = self.pair
+        return (f"{p.joint}: its seats on {p.parent} and {p.child} do not pair up: "
+                f"{self.problem}; give one with --seat {p.parent}:{p.joint}=... or "
+                f"--seat {p.child}:{p.joint}=...")
+
+
+def pair_checks(robot: Robot, mesh_size: float | None = None) -> tuple[PairCheck, ...]:
+    """:class:`PairCheck` of every joint whose links have CAD, at the mesh edge
+    ``mesh_size`` [m] (default the robot's).
+
+    Examples
+    --------
+    >>> from flexarm.robot import load_robot
+    >>> c = pair_checks(load_robot())[1]  # the demo arm's joint 2: a shaft through a bore
+    >>> c.pair.joint, c.problem, c.parent_nodes, c.child_nodes
+    ('joint_2', '', 44, 68)
+    """
+    h = robot.options.mesh_size if mesh_size is None else float(mesh_size)
+    out = []
+    for p in seat_pairs(robot):
+        nodes = []
+        for link, n in ((p.parent, p.parent_points), (p.child, p.child_points)):
+            area = n * link_sample(robot.links[robot.link_index[link]]).weight
+            nodes.append(int(math.floor(area / (NODE_AREA * h**2))))
+        out.append(PairCheck(p, nodes[0], nodes[1], h))
+    return tuple(out)
+
+
+def pairs_line(checks) -> str:
+    """One line: how many pairs hold, their gaps [mm] and the fewest nodes a side.
+
+    Examples
+    --------
+    >>> from flexarm.robot import load_robot
+    >>> print(pairs_line(pair_checks(load_robot())))  # doctest: +NORMALIZE_WHITESPACE
+    seat pairs: 4 of 6 within 5 mm along the joint axis or spanning it (gaps -82.1 to
+    185.6 mm); at least about 10 FE nodes a side at 30 mm (`flexarm build` counts them on
+    the mesh)
+    """
+    if not checks:
+        return "seat pairs: none (no joint has CAD on both links)"
+    good = sum(not c.problem for c in checks)
+    gaps = [1e3 * c.pair.gap for c in checks if math.isfinite(c.pair.gap)]
+    span = f" (gaps {min(gaps):.1f} to {max(gaps):.1f} mm)" if gaps else ""
+    fewest = min(min(c.parent_nodes, c.child_nodes) for c in checks)
+    few = [c.pair.joint for c in checks if c.few_nodes]
+    where = f" ({', '.join(few)}: fewer than {MIN_PAIR_NODES})" if few else ""
+    return (f"seat pairs: {good} of {len(checks)} within {PAIR_GAP * 1e3:g} mm along the "
+            f"joint axis or spanning it{span}; at least about {fewest} FE nodes a side at "
+            f"{checks[0].mesh_size * 1e3:g} mm{where} (`flexarm build` counts them on the "
+            "mesh)")

@@ -197,6 +197,29 @@ def merged_mesh(pieces: list[Piece], urdf: Path, link: str = "link"):
     return union([_piece_mesh(p, urdf) for p in pieces], f"links.{link}")
 
 
+def _ply_bytes(mesh) -> bytes:
+    """Binary little-endian PLY of ``mesh`` with float64 vertices (trimesh's own export
+    rounds them to float32).
+
+    Examples
+    --------
+    >>> import io, trimesh
+    >>> box = trimesh.creation.box((0.1, 0.2, 0.3))
+    >>> back = trimesh.load(io.BytesIO(_ply_bytes(box)), file_type="ply")
+    >>> bool(np.array_equal(back.vertices, box.vertices)), back.is_watertight
+    (True, True)
+    """
+    vertices = np.ascontiguousarray(mesh.vertices, dtype="<f8")
+    faces = np.asarray(mesh.faces, dtype=np.int64)
+    packed = np.zeros(len(faces), dtype=[("n", "u1"), ("f", "<i4", (3,))])
+    packed["n"], packed["f"] = 3, faces
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(vertices)}\n"
+              "property double x\nproperty double y\nproperty double z\n"
+              f"element face {len(faces)}\nproperty list uchar int vertex_indices\n"
+              "end_header\n")
+    return header.encode("ascii") + vertices.tobytes() + packed.tobytes()
+
+
 def write_derived(mesh, folder: Path, link: str) -> Path:
     """Write ``mesh`` as ``<folder>/<link>-<content hash>.ply`` (binary, metres) unless
     that very file is there already; returns its path.
@@ -204,7 +227,7 @@ def write_derived(mesh, folder: Path, link: str) -> Path:
     PLY keeps double-precision vertices and the shared-vertex topology: the union of
     pieces that touch tangentially (a cylinder grazing another's end face) has vertices
     closer than float32 resolves, and an STL of it comes back open."""
-    data = mesh.export(file_type="ply")
+    data = _ply_bytes(mesh)
     digest = hashlib.sha256(data).hexdigest()
     stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", link)
     path = Path(folder).resolve() / f"{stem}-{digest[:16]}.ply"  # links hold absolute paths
