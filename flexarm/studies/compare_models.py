@@ -122,6 +122,14 @@ class ComparisonReport:
                          f"C {d['max_C_err_pct']:.3f}%")
         return "\n".join(lines)
 
+    def write(self, out) -> ComparisonReport:
+        """This report with its files written into folder ``out``:
+        ``model_comparison.csv``, ``model_comparison_bode.csv`` and
+        ``model_comparison_bode.png`` (poses in the order of :attr:`results`)."""
+        poses = list(dict.fromkeys(r.pose for r in self.results))
+        files = _write(self, Path(out), poses)
+        return ComparisonReport(self.results, self.reference, self.bode_freq_hz, files)
+
 
 @writes_folder("out")
 def _write(report: ComparisonReport, out: Path, poses: list[str]) -> tuple[Path, ...]:
@@ -240,7 +248,4 @@ def compare_models(
             results.append(ModelResult("full-FE", pname, ref.freq_hz, np.diag(ref.C),
                                        ref.n_dofs, tcp_shapes=ref.tcp_shapes))
     report = ComparisonReport(tuple(results), "full-FE" if full_fe else cb.label, fbode)
-    if out_dir is not None:
-        files = _write(report, Path(out_dir), list(poses))
-        report = ComparisonReport(report.results, report.reference, fbode, files)
-    return report
+    return report if out_dir is None else report.write(out_dir)

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ...fe.picture_cache import picture_from_inputs
 from ...fe.plotting import pyplot, save_figure
 from ...fe.typing import FloatArray
 from ..tolerances import tol
@@ -29,6 +30,7 @@ NOISE_FLOOR_FACTOR = float(np.sqrt(2.0))
 TORQUE_SHARE = 1e-3
 
 
+@picture_from_inputs
 def plot_history(path, rows: list[dict], nominal_rms: float | None = None,
                  sigma: float | None = None, what: str = "") -> Path:
     """Bars of the fitted and held-out RMS error [µm] of each model version.
@@ -127,6 +129,7 @@ def torque_joints(tau: FloatArray) -> np.ndarray:
     return np.flatnonzero(peak >= TORQUE_SHARE * peak.max())
 
 
+@picture_from_inputs
 def plot_residual_vs_torque(path, tau: FloatArray, residual: FloatArray,
                             title: str = "") -> Path:
     """Residual x, y, z [µm] against each joint's torque [N m], one panel per joint that

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ...fe.files import writes_folder
+from ...fe.picture_cache import picture_from_inputs
 from ...fe.plotting import pyplot, save_figure
 from ..tolerances import tol
 from .plots import plot_residual_vs_torque, write_residuals
@@ -102,17 +103,24 @@ def _panels(cmp) -> tuple[list[tuple[str, np.ndarray]], str]:
 def plot_deflection(path, cmp) -> Path:
     """``deflection_vs_force.png``: measured (points or bands) and model deflection [mm]
     against the load magnitude [N], one panel per series or per pose and direction."""
-    plt = pyplot()
     data = cmp.problem.data
-    fmag = np.linalg.norm(data.force, axis=1)
     panels, note = _panels(cmp)
+    return _draw_deflection(path, np.linalg.norm(data.force, axis=1), data.disp,
+                            cmp.predicted, panels, note, f"{cmp.model}, at {cmp.poses}")
+
+
+@picture_from_inputs
+def _draw_deflection(path, fmag, disp, predicted, panels, note: str, what: str) -> Path:
+    """:func:`plot_deflection` from plain arrays (keyed by them in the picture cache):
+    load magnitudes [N], measured and predicted deflections [m], panels (title, rows)."""
+    plt = pyplot()
     cols = min(len(panels), 6)
     rows = -(-len(panels) // cols)
     # a few wide panels when grouped: room for the title of what was grouped
     size = (3 * cols, 2.4 * rows) if not note else (max(3 * cols, 8), max(2.4 * rows, 3.6))
     fig, axes = plt.subplots(rows, cols, figsize=size, squeeze=False)
     for ax, (title, g) in zip(axes.ravel(), panels, strict=False):
-        meas, model = data.disp[g] * 1e3, cmp.predicted[g] * 1e3
+        meas, model = disp[g] * 1e3, predicted[g] * 1e3
         if len(g) <= tol.plot_max_points:  # every reading; a series' model as a line
             for k, c in enumerate("xyz"):
                 ax.plot(fmag[g], meas[:, k], "o", ms=3, color=f"C{k}", label=f"{c} meas")
@@ -137,7 +145,7 @@ def plot_deflection(path, cmp) -> Path:
     fig.supxlabel("load |F| [N]  (points: measured, lines: model)" if not note else
                   "load |F| [N]  (points: measured, dots or lines: model; bands: 5-95 % of the "
                   "measured readings where a panel has many)", fontsize=8)
-    fig.suptitle(f"TCP deflection, measured vs {cmp.model}, at {cmp.poses}"
+    fig.suptitle(f"TCP deflection, measured vs {what}"
                  + (f"\n{note.strip()}" if note else ""), fontsize=9)
     # Fixed margins: tight_layout over dozens of panels costs seconds per figure.
     bottom, top = (0.4 / rows, 0.25 / rows) if not note else (0.8 / size[1], 0.9 / size[1])
@@ -150,18 +158,25 @@ def _plot_by_pose(path, cmp, res_um: np.ndarray) -> Path:
     """``residual_by_pose.png``: box plot of |residual| [µm] per pose
     (:meth:`~.compare.Comparison.pose_groups`, ``tol.plot_max_panels`` at most; outliers
     drawn up to ``tol.plot_max_points`` readings)."""
-    plt = pyplot()
     pb = cmp.problem
     names, pose_of = cmp.pose_groups()
     order = sorted(range(len(names)), key=lambda k: names[k])[:tol.plot_max_panels]
     of_row = pose_of[pb.series_id]
-    fig, ax = plt.subplots(figsize=(5, 3))
-    many = len(res_um) > tol.plot_max_points
-    ax.boxplot([np.abs(res_um[(of_row == k) & ~pb.is_ref]).ravel() for k in order],
-               showfliers=not many)
-    ax.set_xticks(np.arange(1, len(order) + 1), [names[k] for k in order])
+    boxes = [np.abs(res_um[(of_row == k) & ~pb.is_ref]).ravel() for k in order]
+    return _draw_by_pose(path, boxes, [names[k] for k in order],
+                         len(res_um) > tol.plot_max_points, f"{cmp.model}| at {cmp.poses}")
+
+
+@picture_from_inputs
+def _draw_by_pose(path, boxes: list[np.ndarray], labels: list[str], many: bool,
+                  what: str) -> Path:
+    """:func:`_plot_by_pose` from the |residual| [µm] of each pose (keyed by them in the
+    picture cache)."""
+    fig, ax = pyplot().subplots(figsize=(5, 3))
+    ax.boxplot(boxes, showfliers=not many)
+    ax.set_xticks(np.arange(1, len(labels) + 1), labels)
     ax.set_ylabel("|residual| [µm]")
     ax.set_xlabel("pose")
-    ax.set_title(f"|measured - {cmp.model}| at {cmp.poses}"
+    ax.set_title(f"|measured - {what}"
                  + ("\n(whiskers 1.5 IQR, outliers not drawn)" if many else ""), fontsize=9)
     return save_figure(fig, path, dpi=90)
