@@ -6,7 +6,8 @@ same rule holds everywhere:
 
 * A value is ``<number>[<unit>]``: a decimal (``800``, ``-5e5``, ``.5``), then optionally a
   unit of its quantity, with or without a space, case-insensitive (``0.8kN``, ``25 um``,
-  ``25µm``, ``400Nm``).  :data:`QUANTITIES` lists the units of each quantity.
+  ``25µm``, ``400Nm``).  :data:`QUANTITIES` (:mod:`flexarm.fe.quantity_units`) lists
+  the units of each quantity.
 * A bare number is read in the unit the option states (``--force 800`` is 800 N,
   ``--step 2`` is 2 mm).  Where a bare number would be ambiguous (the lengths and angles of
   ``lab --noise``, ``--ref-noise`` and ``--effect``) a unit is required: ``25`` is
@@ -30,35 +31,12 @@ from fractions import Fraction
 
 import numpy as np
 
+from .quantity_units import QUANTITIES, accepted_units, si_unit, unit_factor
+
+# the unit table's names are part of this module's interface too (callers import them here)
 __all__ = ["QUANTITIES", "Quantity", "accepted_units", "unit_factor", "si_unit",
            "parse_count", "parse_list", "parse_levels", "parse_band", "env_number"]
 
-#: quantity -> {unit symbol as written canonically: size of one unit in SI, exact}; the
-#: first unit of size 1 is the SI unit.  ``""`` is a plain ratio's (no unit).
-QUANTITIES: dict[str, dict[str, Fraction]] = {
-    "length": {"m": Fraction(1), "mm": Fraction(1, 10**3), "um": Fraction(1, 10**6),
-               "cm": Fraction(1, 10**2), "in": Fraction(254, 10**4)},
-    "force": {"N": Fraction(1), "kN": Fraction(10**3)},
-    "angle": {"deg": Fraction(math.pi / 180), "rad": Fraction(1),
-              "mrad": Fraction(1, 10**3), "urad": Fraction(1, 10**6)},
-    "moment": {"Nm": Fraction(1), "kNm": Fraction(10**3)},
-    "frequency": {"Hz": Fraction(1), "kHz": Fraction(10**3)},
-    "receptance": {"m_per_N": Fraction(1), "mm_per_N": Fraction(1, 10**3),
-                   "um_per_N": Fraction(1, 10**6)},
-    "compliance": {"m/N": Fraction(1), "mm/N": Fraction(1, 10**3), "um/N": Fraction(1, 10**6)},
-    "stiffness": {"N/m": Fraction(1), "kN/m": Fraction(10**3), "N/mm": Fraction(10**3),
-                  "N/um": Fraction(10**6), "kN/mm": Fraction(10**6)},
-    "torsional stiffness": {"Nm/rad": Fraction(1), "kNm/rad": Fraction(10**3),
-                            "Nm/mrad": Fraction(10**3)},
-    "time": {"s": Fraction(1), "ms": Fraction(1, 10**3)},
-    "speed": {"m/s": Fraction(1), "mm/s": Fraction(1, 10**3)},
-    "mass": {"kg": Fraction(1), "g": Fraction(1, 10**3), "t": Fraction(10**3)},
-    "ratio": {"": Fraction(1), "%": Fraction(1, 100)},
-    "memory": {"B": Fraction(1), "kB": Fraction(2**10), "MB": Fraction(2**20),
-               "GB": Fraction(2**30)},
-}
-
-_LOOKUP = {q: {sym.lower(): sym for sym in units} for q, units in QUANTITIES.items()}
 _NUMBER = re.compile(r"([+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)\s*(.*)", re.S)
 _NOT_FINITE = re.compile(r"[+-]?(?:nan|inf|infinity)", re.I)
 _INTEGER = re.compile(r"[+-]?[0-9]+")
@@ -69,52 +47,6 @@ _UNIT_START = re.compile(r"$|[^\W\d_]|%")
 _EXACT_RANGE = (1e-300, 1e300)
 #: Characters of a typed text repeated in a message.
 _SHOWN_CHARS = 40
-
-
-def accepted_units(quantity: str) -> list[str]:
-    """Unit symbols accepted for ``quantity``, canonical spelling.
-
-    Examples
-    --------
-    >>> accepted_units("force")
-    ['N', 'kN']
-    """
-    return list(QUANTITIES[quantity])
-
-
-def si_unit(quantity: str) -> str:
-    """The SI unit of ``quantity`` (``""`` for a ratio).
-
-    Examples
-    --------
-    >>> si_unit("angle"), si_unit("stiffness")
-    ('rad', 'N/m')
-    """
-    return next(sym for sym, f in QUANTITIES[quantity].items() if f == 1)
-
-
-def unit_factor(quantity: str, unit: str) -> tuple[str, Fraction] | None:
-    """Canonical symbol and exact SI size of ``unit``, or ``None`` if not accepted.
-
-    Parameters
-    ----------
-    quantity : str
-        A key of :data:`QUANTITIES`.
-    unit : str
-        The suffix as written (case-insensitive; ``µm`` is ``um``; spaces, ``*`` and
-        ``·`` between the parts are ignored: ``N m`` is ``Nm``).
-
-    Examples
-    --------
-    >>> unit_factor("length", "UM")
-    ('um', Fraction(1, 1000000))
-    >>> unit_factor("length", "ft") is None
-    True
-    """
-    # the micro sign and Greek mu both read as "u"
-    key = re.sub(r"[\s*\u00b7]", "", unit).lower().replace("\u00b5", "u").replace("\u03bc", "u")
-    symbol = _LOOKUP[quantity].get(key)
-    return None if symbol is None else (symbol, QUANTITIES[quantity][symbol])
 
 
 def _num(x: float) -> str:

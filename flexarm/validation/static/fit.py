@@ -11,23 +11,8 @@ Each series of ``m`` rows then carries ``3 (m - 1)`` degrees of freedom.  The
 ``"independent"`` model (rows treated as independent, no offset) exists only to show
 why it invents effects (the shared-reference trap).
 
-Degrees of freedom and the chi^2_red band.  With the stated noise and a model that
-contains the truth, the GLS chi-square of a fit is chi^2(nu) distributed with
-
-    nu = n_obs - n_fit - n_shape,
-
-``n_obs`` = 3 per non-reference reading (= all 3 m coordinates of a series minus its 3
-reference offsets, the GLS-equivalent count; the ``independent`` model has no offsets and
-drops the reference rows, the same number), plus any modal frequencies;
-``n_fit`` = the effective number of fitted parameters, ``tr(2H - H^2)`` of the hat matrix
-``H`` of the whitened data (= the number of fitted compliances and amplitudes the data
-determine; a direction that only the weak prior pins down counts 0; with this trace the
-expected chi^2 of pure noise after a linear fit is exactly ``nu``, prior included);
-``n_shape`` = shape parameters chosen by a search outside the Gauss-Newton step (a
-hardening threshold, a hysteresis torque radius: one each).  A refit that adds an effect
-therefore removes its amplitudes (a backlash width, a lost motion, a compliance, up to
-three wrist couplings) through ``n_fit`` and its shape parameter through ``n_shape``.
-:func:`chi2_band` is the exact central interval of chi^2(nu)/nu.
+The degrees of freedom of a fit and the band its chi^2_red must fall in are those of
+:mod:`~flexarm.validation.static.fit_result`.
 
 Model parameters are the named parameters of :class:`~flexarm.robot.effects.Effect`
 objects; the fit is Gauss-Newton with finite-difference sensitivities (exact in one step
@@ -39,7 +24,6 @@ their nominal values.
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -53,7 +37,10 @@ from ...robot.effects import Effect, lower_bound
 from ...robot.kinematics import jacobian
 from ..data.measurements import StaticData
 from ..tolerances import tol
+from .fit_result import FitResult, chi2_band
 
+# the result and its chi^2 band are part of this module's interface too (callers import
+# them here)
 __all__ = ["Problem", "FitResult", "FitError", "fit_model", "try_wpredict", "baseline_effects",
            "chi2_band"]
 
@@ -210,49 +197,6 @@ class Problem:
         return 0.0, 0
 
 
-@dataclass(frozen=True)
-class FitResult:
-    """A fitted model: effects with fitted values, covariance and goodness of fit.
-
-    ``chi2`` is the unscaled GLS chi-square with the stated noise; ``chi2_red`` divides by
-    ``dof = n_obs - n_identified - n_shape`` (module docstring): ``n_identified`` is the
-    effective number of fitted parameters ``tr(2H - H^2)``, ``n_shape`` the number of shape
-    parameters fixed by a search outside this fit (hardening threshold, hysteresis radius).
-    """
-
-    effects: tuple
-    free: tuple
-    theta: np.ndarray
-    cov: np.ndarray
-    chi2: float
-    n_obs: int
-    n_identified: float
-    residual: np.ndarray
-    sensitivity: np.ndarray
-    n_shape: int = 0
-    penalty: float = 0.0
-    n_penalised: int = 0
-
-    @property
-    def dof(self) -> float:
-        return max(self.n_obs - self.n_penalised - self.n_identified - self.n_shape, 1.0)
-
-    @property
-    def chi2_red(self) -> float:
-        """chi^2 / dof without the fixed cost of measured modes that have no model partner
-        (``penalty`` over ``n_penalised`` observations, :meth:`Problem.penalty`)."""
-        return (self.chi2 - self.penalty) / self.dof
-
-    @property
-    def stderr(self) -> np.ndarray:
-        return np.sqrt(np.clip(np.diag(self.cov), 0, None))
-
-    def bic(self, n_extra: int = 0) -> float:
-        """chi^2 + k ln(n_obs) with ``k`` free parameters, the ``n_shape`` shape parameters
-        and ``n_extra`` more."""
-        return self.chi2 + (len(self.free) + self.n_shape + n_extra) * np.log(self.n_obs)
-
-
 def baseline_effects(arm: ArmModel) -> tuple[list[Effect], list[Param]]:
     """Torsion compliance scale per joint (nominal 1): the linear baseline."""
     eff = [Effect("stiffness", j, (("scale", 1.0),)) for j in range(arm.chain.n_joints)]
@@ -388,31 +332,6 @@ def fit_model(problem: Problem, effects, free, scales, prior=None, rows=None,
     return FitResult(tuple(final), tuple(free), theta, cov, float(res @ res),
                      problem.n_obs_rows(rows), n_fit, res, X, int(n_shape), penalty,
                      n_penalised)
-
-
-def chi2_band(dof: float, coverage: float = tol.chi2_band_coverage) -> tuple[float, float]:
-    """Exact central ``coverage`` interval of chi^2_red = chi^2(dof) / dof.
-
-    The quantiles are ``scipy.stats.chi2.ppf`` at ``(1 - coverage) / 2`` and
-    ``(1 + coverage) / 2`` (not the normal approximation ``1 +- z sqrt(2 / dof)``, which
-    is too low at both ends: chi^2 is skewed).  ``dof`` may be fractional (effective
-    parameter counts, :class:`FitResult`).  The default coverage ``0.99`` (0.5 % and
-    99.5 % quantiles) is chosen because the band is checked on every model version of every
-    data set, and a correct model falls outside a 95 % band once in twenty: at 99 % a false
-    "something is missing" costs 1 %, while a missing effect worth adding moves chi^2_red
-    by far more than the band's half-width (0.18 at dof 430).
-
-    Examples
-    --------
-    >>> [round(v, 3) for v in chi2_band(427.0)]
-    [0.833, 1.185]
-    """
-    from scipy.stats import chi2
-
-    if not dof > 0:
-        raise ValueError(f"chi2_band needs dof > 0, got {dof}")
-    a = (1 - coverage) / 2
-    return float(chi2.ppf(a, dof) / dof), float(chi2.ppf(1 - a, dof) / dof)
 
 
 def with_effect(effects, free, scales, prior, effect: Effect, names, sizes):

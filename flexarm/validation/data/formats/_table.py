@@ -1,4 +1,5 @@
-"""The CSV layer shared by every measurement kind: schemas, header, cells, errors.
+"""The CSV layer shared by every measurement kind: header, cells, errors (the schemas:
+:mod:`~flexarm.validation.data.formats._schema`).
 
 A measurement file is UTF-8 text: one header row, then data rows.  Lines whose first
 non-blank character is ``#`` are comments and blank lines are ignored, anywhere.
@@ -21,10 +22,12 @@ from ....fe.notebook import data_frame
 from ....fe.typing import IntArray, PathType
 from ..decimals import INTEGER, REAL, integers, reals
 from ..measurements import DIRECTIONS
-from ..units import QUANTITIES, accepted_units, format_values, split_column, unit_factor
+from ..units import accepted_units, format_values, split_column, unit_factor
 from ._cells import Cells, file_lines
 from ._lines import MeasurementFileError
+from ._schema import Field, Schema, joints, vector
 
+# the schemas' names are part of this module's interface too (the kinds import them here)
 __all__ = ["MeasurementFileError", "Field", "Schema", "Column", "Table", "read_table",
            "write_table", "table_frame", "label_problem", "joints", "vector"]
 
@@ -44,85 +47,6 @@ def label_problem(label: str) -> str | None:
     if label.startswith("#") or "\n" in label or "\r" in label:
         return f"label {label!r} must not start with '#' or hold a line break"
     return None
-
-
-@dataclass(frozen=True)
-class Field:
-    """One column of a schema.
-
-    Attributes
-    ----------
-    base : str
-        Name without unit suffix (``"dx"``, ``"series"``).
-    type : str
-        ``"label"``, ``"int"``, ``"real"`` or ``"direction"``.
-    quantity : str or None
-        Physical quantity (a key of ``QUANTITIES``): the column needs a unit suffix.
-    unit : str or None
-        Canonical unit, used when writing.
-    required : bool
-        Whether every file of the kind has this column.
-    group : str or None
-        The columns of one array (``"q"`` for ``q1`` ... ``q6``, ``"f"`` for ``fx, fy,
-        fz``): :meth:`Table.parse` fills them into one (n, k) array, also given under
-        this name.
-    """
-
-    base: str
-    type: str
-    quantity: str | None = None
-    unit: str | None = None
-    required: bool = True
-    group: str | None = None
-
-    @property
-    def canonical(self) -> str:
-        """Column name as written by flexarm (``"dx_mm"``)."""
-        return self.base if self.unit is None else f"{self.base}_{self.unit}"
-
-    @property
-    def factor(self) -> Fraction:
-        """Exact SI size of the canonical unit (1 for unitless columns)."""
-        return Fraction(1) if self.quantity is None else QUANTITIES[self.quantity][self.unit]
-
-
-@dataclass(frozen=True)
-class Schema:
-    """The columns of one kind of measurement file, in canonical order."""
-
-    kind: str
-    fields: tuple[Field, ...]
-    #: "a static file", for messages
-    noun: str = ""
-
-    def __post_init__(self) -> None:
-        if not self.noun:
-            object.__setattr__(self, "noun", f"a {self.kind} file")
-
-    def field(self, base: str) -> Field:
-        """The field called ``base``."""
-        return next(f for f in self.fields if f.base == base)
-
-    @property
-    def required(self) -> list[str]:
-        """Bases of the required columns."""
-        return [f.base for f in self.fields if f.required]
-
-    @property
-    def vocabulary(self) -> dict[str, Field]:
-        """Base name -> field."""
-        return {f.base: f for f in self.fields}
-
-
-def joints(unit: str = "deg") -> tuple[Field, ...]:
-    """``q1`` ... ``q6``: joint angles."""
-    return tuple(Field(f"q{j}", "real", "angle", unit, group="q") for j in range(1, 7))
-
-
-def vector(prefix: str, quantity: str, unit: str, required: bool = True) -> tuple[Field, ...]:
-    """``<prefix>x``, ``<prefix>y``, ``<prefix>z``: a base-frame vector."""
-    return tuple(Field(prefix + c, "real", quantity, unit, required, prefix or "xyz")
-                 for c in DIRECTIONS)
 
 
 @dataclass(frozen=True)
