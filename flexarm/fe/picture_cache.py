@@ -8,24 +8,18 @@ cache (:mod:`flexarm.fe.cache`, kind ``"pictures"``).
 
 matplotlib figures are keyed by :mod:`flexarm.fe.cached_figure`, PyVista scenes by
 :func:`flexarm.reduction.render.scene_key`.  A plot function decorated with
-:func:`picture_from_inputs` is keyed by its inputs before any figure is built, which
-saves the figure's construction too (most of a warm redraw of a many-panel plot).
+:func:`flexarm.fe.plotting.picture_from_inputs` is keyed by its inputs before any figure
+is built.
 """
 
 from __future__ import annotations
 
-import functools
-import hashlib
-import logging
-import pickle
 from collections.abc import Callable
 from pathlib import Path
 
-from .cache import BYTES, cache_key, cached, package_digest
+from .cache import BYTES, cache_key, cached
 
-__all__ = ["cached_picture", "picture_from_inputs", "picture_key"]
-
-log = logging.getLogger(__name__)
+__all__ = ["cached_picture", "picture_key"]
 
 #: Version of the picture-key recipe: bump it when a key must change for all pictures.
 _RECIPE = 1
@@ -74,52 +68,3 @@ def cached_picture(path, key: str, draw: Callable[[Path], None],
         serve(path, entry.value)
     return path, entry.is_hit
 
-
-def picture_from_inputs(plot: Callable[..., Path]) -> Callable[..., Path]:
-    """Decorate ``plot(path, *inputs, **options) -> path`` so that a ``.png`` it drew
-    before from equal inputs is written from the cache without building the figure.
-
-    The key is the function's name, the package digest (any change of flexarm's code
-    draws again), the pickled inputs and options, matplotlib's ``rcParams`` and the
-    versions of matplotlib and Pillow.  Inputs that do not pickle are drawn every time.
-    ``plot`` must draw from its arguments only (no files read, no clock).
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> calls = []
-    >>> @picture_from_inputs
-    ... def plot(path, values):
-    ...     calls.append(values)
-    ...     Path(path).write_bytes(b"png of " + repr(values).encode())
-    ...     return Path(path)
-    >>> folder = Path(tempfile.mkdtemp())
-    >>> token = str(folder)  # inputs no earlier run has drawn
-    >>> first = plot(folder / "a.png", [1, 2, token]).read_bytes()
-    >>> plot(folder / "b.png", [1, 2, token]).read_bytes() == first
-    True
-    >>> len(calls)
-    1
-    """
-
-    @functools.wraps(plot)
-    def wrapper(path, *inputs, **options):
-        if Path(path).suffix.lower() != ".png":
-            return plot(path, *inputs, **options)
-        try:
-            blob = pickle.dumps((inputs, sorted(options.items())), pickle.HIGHEST_PROTOCOL)
-        except Exception as exc:  # noqa: BLE001 - any input that will not pickle is drawn
-            log.debug("inputs of %s not cacheable (%s): drawn", plot.__qualname__, exc)
-            return plot(path, *inputs, **options)
-        from .plotting import pyplot
-
-        # the style as the plot will see it: importing pyplot sets the backend's defaults
-        style = repr(sorted(pyplot().rcParams.items()))
-        key = picture_key("inputs", plot.__module__, plot.__qualname__, package_digest(),
-                          hashlib.sha256(blob).hexdigest(), style,
-                          libraries=("matplotlib", "pillow"))
-        drawn = []
-        out, _ = cached_picture(path, key, lambda p: drawn.append(plot(p, *inputs, **options)))
-        return drawn[0] if drawn else out
-
-    return wrapper

@@ -1,14 +1,25 @@
 """matplotlib for files, not windows: one place that selects the Agg backend, and makes
 every figure a :class:`~flexarm.fe.cached_figure.CachedFigure` (a PNG of unchanged
-content is copied from the cache instead of drawn again)."""
+content is copied from the cache instead of drawn again), and :func:`picture_from_inputs`,
+which keys a plot function by its inputs before any figure is built (that saves the
+figure's construction too: most of a warm redraw of a many-panel plot)."""
 
 from __future__ import annotations
 
+import functools
+import hashlib
+import logging
+import pickle
+from collections.abc import Callable
 from pathlib import Path
 
+from .cache import package_digest
 from .errors import MissingDependencyError
+from .picture_cache import cached_picture, picture_key
 
-__all__ = ["pyplot", "save_figure"]
+__all__ = ["picture_from_inputs", "pyplot", "save_figure"]
+
+log = logging.getLogger(__name__)
 
 
 def pyplot():
@@ -74,3 +85,51 @@ def save_figure(fig, path, dpi: int = 100, tight: bool = True, **savefig) -> Pat
     fig.savefig(path, dpi=dpi, **savefig)
     pyplot().close(fig)
     return path
+
+
+def picture_from_inputs(plot: Callable[..., Path]) -> Callable[..., Path]:
+    """Decorate ``plot(path, *inputs, **options) -> path`` so that a ``.png`` it drew
+    before from equal inputs is written from the cache without building the figure.
+
+    The key is the function's name, the package digest (any change of flexarm's code
+    draws again), the pickled inputs and options, matplotlib's ``rcParams`` and the
+    versions of matplotlib and Pillow.  Inputs that do not pickle are drawn every time.
+    ``plot`` must draw from its arguments only (no files read, no clock).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> calls = []
+    >>> @picture_from_inputs
+    ... def plot(path, values):
+    ...     calls.append(values)
+    ...     Path(path).write_bytes(b"png of " + repr(values).encode())
+    ...     return Path(path)
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> token = str(folder)  # inputs no earlier run has drawn
+    >>> first = plot(folder / "a.png", [1, 2, token]).read_bytes()
+    >>> plot(folder / "b.png", [1, 2, token]).read_bytes() == first
+    True
+    >>> len(calls)
+    1
+    """
+
+    @functools.wraps(plot)
+    def wrapper(path, *inputs, **options):
+        if Path(path).suffix.lower() != ".png":
+            return plot(path, *inputs, **options)
+        try:
+            blob = pickle.dumps((inputs, sorted(options.items())), pickle.HIGHEST_PROTOCOL)
+        except Exception as exc:  # noqa: BLE001 - any input that will not pickle is drawn
+            log.debug("inputs of %s not cacheable (%s): drawn", plot.__qualname__, exc)
+            return plot(path, *inputs, **options)
+        # the style as the plot will see it: importing pyplot sets the backend's defaults
+        style = repr(sorted(pyplot().rcParams.items()))
+        key = picture_key("inputs", plot.__module__, plot.__qualname__, package_digest(),
+                          hashlib.sha256(blob).hexdigest(), style,
+                          libraries=("matplotlib", "pillow"))
+        drawn = []
+        out, _ = cached_picture(path, key, lambda p: drawn.append(plot(p, *inputs, **options)))
+        return drawn[0] if drawn else out
+
+    return wrapper

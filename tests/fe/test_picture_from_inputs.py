@@ -6,8 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from flexarm.fe.picture_cache import picture_from_inputs
-from flexarm.fe.plotting import pyplot, save_figure
+from flexarm.fe.plotting import picture_from_inputs, pyplot, save_figure
 
 CALLS: list[str] = []
 

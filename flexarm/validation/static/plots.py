@@ -12,8 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ...fe.picture_cache import picture_from_inputs
-from ...fe.plotting import pyplot, save_figure
+from ...fe.plotting import picture_from_inputs, pyplot, save_figure
 from ...fe.typing import FloatArray
 from ..tolerances import tol
 

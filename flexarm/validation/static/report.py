@@ -19,8 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from ...fe.files import writes_folder
-from ...fe.picture_cache import picture_from_inputs
-from ...fe.plotting import pyplot, save_figure
+from ...fe.plotting import picture_from_inputs, pyplot, save_figure
 from ..tolerances import tol
 from .plots import plot_residual_vs_torque, write_residuals
 
