@@ -87,6 +87,12 @@ class Tolerances:
     #: Measurement files: a coherence may exceed 1 by this much (single-precision
     #: round-off of the analyzer) and is then taken as 1.
     coherence_round_off: float = 1e-6
+    #: Universal files: largest entry of ``R R^T - I`` of a coordinate system's axes
+    #: (2420 rows written in single precision by some analyzers).
+    cs_orthonormal: float = 1e-6
+    #: Universal files: a direction cosine below this between a measured direction and
+    #: a base axis is single-precision round-off of an axis-parallel system, taken as 0.
+    cs_axis_round_off: float = 1e-6
     #: FRF comparison: a coherence is capped at 1 minus this when it turns into the weight
     #: gamma^2 / (1 - gamma^2) of a line, so that no line takes all the weight.
     coherence_floor: float = 1e-4

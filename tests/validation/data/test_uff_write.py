@@ -146,8 +146,9 @@ def test_points_table_from_the_geometry_equals_the_labs(lab_file, tmp_path):
 
 def test_sdynpy_reads_geometry_shapes_and_frfs(lab_file):
     """SDynPy's own reader on the lab's file: a node set and a traceline per pose where
-    the forward kinematics puts them, the 55 shapes (6 digits, the format's E13.5) with
-    modal mass 1, and the 58 receptances equal to what the lab made to 1e-6."""
+    the forward kinematics puts them, the 55 shapes, frequencies and damping ratios (7
+    digits in the format's 13 columns) with modal mass 1, and the 58 receptances, all
+    equal to what the lab made to 1e-6."""
     import os
 
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")  # SDynPy imports Qt
@@ -169,8 +170,8 @@ def test_sdynpy_reads_geometry_shapes_and_frfs(lab_file):
     shapes = sdpy.shape.ShapeArray.from_uff(data)
     made = lab.shapes
     assert shapes.size == len(made.freq_hz)
-    assert np.allclose(shapes.frequency, made.freq_hz, rtol=5e-6, atol=0)
-    assert np.allclose(shapes.damping, made.damping_ratio, rtol=5e-6, atol=0)
+    assert np.allclose(shapes.frequency, made.freq_hz, rtol=1e-6, atol=0)
+    assert np.allclose(shapes.damping, made.damping_ratio, rtol=1e-6, atol=0)
     assert np.all(shapes.modal_mass == 1.0)
     col = {f"{n}{d}": k for k, (n, d) in enumerate(zip(made.nodes, made.dirs, strict=True))}
     for r in range(shapes.size):
@@ -179,7 +180,7 @@ def test_sdynpy_reads_geometry_shapes_and_frfs(lab_file):
         keys = [f"{int(n) - 1000 * j}{'xyz'[int(d) - 1]}"
                 for n, d in zip(c.node, c.direction, strict=True)]
         truth = made.shapes[r, [col[k] for k in keys]]
-        assert np.all(np.abs(shapes[r].shape_matrix - truth) <= 5e-6 * np.abs(truth) + 1e-300)
+        assert np.all(np.abs(shapes[r].shape_matrix - truth) <= 1e-6 * np.abs(truth) + 1e-300)
 
     frfs = sdpy.data.NDDataArray.from_uff(data)
     assert frfs.size == sum(len(f.H) for f in lab.frfs)
@@ -192,3 +193,40 @@ def test_sdynpy_reads_geometry_shapes_and_frfs(lab_file):
             assert np.allclose(got.abscissa, f.freq_hz, rtol=1e-9, atol=0)
             assert np.all(np.abs(got.ordinate - f.H[row]) <= 1e-6 * np.abs(f.H[row]))
             k += 1
+
+
+@pytest.mark.parametrize("complex_modes", [False, True])
+def test_55_values_keep_seven_digits_and_blank_separated_fields(tmp_path, complex_modes):
+    """Shapes over twelve decades, both signs: pyuff's reader gets every value to 5e-7
+    (7 digits) where its exponent has one digit, to 5e-6 below 1e-9; every data line
+    splits on white space into its 3 or 6 numbers, as readers that split need."""
+    from flexarm.validation.data.shape_data import ShapeData
+
+    rng = np.random.default_rng(3)
+    values = rng.choice([-1, 1], 24) * 10.0 ** rng.uniform(-11, 1, 24) * rng.uniform(1, 9.99, 24)
+    shapes = values.reshape(2, 12) * (1 + 0.5j if complex_modes else 1)
+    s = ShapeData(poses=["P1", "P1"], q=np.zeros((2, 6)), modes=[1, 2],
+                  freq_hz=[7.123456789, 12.987654321], damping_ratio=[0.0123456789, 0.02],
+                  nodes=np.repeat([1, 2, 3, 4], 3), dirs=list("xyz") * 4, shapes=shapes)
+    path = write_uff(tmp_path / "digits.uff", s, modal_mass=[1.0, 2.0])
+    sets = [d for d in pyuff.UFF(str(path)).read_sets() if d["type"] == 55]
+    got = np.array([np.column_stack([d["r1"], d["r2"], d["r3"]]).ravel() for d in sets])
+    parts = [got.real, got.imag] if complex_modes else [got]
+    truth = [shapes.real, shapes.imag] if complex_modes else [shapes]
+    for g, t in zip(parts, truth, strict=True):
+        rel = np.abs(g - t) / np.abs(t)
+        assert np.all(rel[np.abs(t) >= 1e-9] <= 5e-7) and np.all(rel <= 5e-6)
+    if complex_modes:
+        w = 2 * np.pi * np.array([7.123456789, 12.987654321])
+        assert np.allclose([abs(d["eig"]) for d in sets], w, rtol=5e-7, atol=0)
+    else:
+        assert np.allclose([d["freq"] for d in sets], [7.123456789, 12.987654321],
+                           rtol=5e-7, atol=0)
+        assert np.allclose([d["modal_damp_vis"] for d in sets], [0.0123456789, 0.02],
+                           rtol=5e-7, atol=0)
+        assert [d["modal_m"] for d in sets] == [1.0, 2.0]
+    lines = path.read_text().splitlines()
+    for k, line in enumerate(lines):
+        if line.strip() == "55":
+            data = lines[k + 10:k + 18:2]  # past 5 ID lines, 3 records, each node's id
+            assert all(len(x.split()) == (6 if complex_modes else 3) for x in data)

@@ -10,6 +10,11 @@ Datasets understood:
   a flexarm file has one block of each per pose (:mod:`.uff_geometry`), and a file
   without a points table gives one through it
   (:func:`~flexarm.validation.dynamic.point_geometry.points_from_geometry`).
+- **2420** / **18** coordinate systems: each node is put from its definition system
+  into the base frame, and the directions of its 55, 2414 and 58 data are turned from
+  its displacement system into base axes before anything uses them
+  (:mod:`.uff_systems`, :mod:`.uff_directions`); a node naming a system the file does
+  not define is refused.
 - **58** FRFs (``func_type`` 4): one response DOF per reference DOF, ordinate
   displacement (8), velocity (11) or acceleration (12) over force (13); turned into
   receptance [m/N] at ``+x, +y, +z`` (a negative UFF direction flips the sign).  An
@@ -49,10 +54,12 @@ from ....fe.errors import MissingDependencyError, ReadError
 from ....fe.typing import PathType
 from ..measurements import DIRECTIONS, FrfData
 from ..shape_data import ShapeData
+from .uff_directions import frf_to_base, shapes_to_base
 from .uff_frf import COHERENCE, RESPONSES, UffFrf, Where, coherence_of, collect_frfs, frf_of
 from .uff_geometry import pose_geometries
 from .uff_modes import is_mode_2414, modal_mass, mode_2414
 from .uff_scan import bad_number, truncation
+from .uff_systems import node_frames, systems_18, systems_2420
 
 __all__ = ["EXTENSIONS", "RESPONSES", "UffFrf", "UffContent", "UffOptions", "read_uff", "read"]
 
@@ -115,7 +122,7 @@ class UffContent:
     nodes : (k,) int
         Node ids of the 15/2411 geometry, as in the file.
     coordinates : (k, 3) float
-        Their coordinates [m].
+        Their positions in the base frame [m] (from their definition systems).
     frfs : tuple of UffFrf
         One per pose, from the 58 sets.
     shapes : ShapeData or None
@@ -210,6 +217,22 @@ def _collect_shapes(where: Where, items: list) -> ShapeData | None:
                      shapes=phi[:, measured])
 
 
+def _modes_to_base(path: Path, frames, items: list, offsets: dict) -> list:
+    """The mode items with their shapes turned into the base frame, pose by pose (a
+    pose's modes tell together which local directions were measured)."""
+    out = list(items)
+    for label in dict.fromkeys(it[2] for it in items):
+        mine = [k for k, it in enumerate(items) if it[2] == label]
+        nodes = items[mine[0]][6]
+        if any(not np.array_equal(items[k][6], nodes) for k in mine):
+            continue  # refused by _collect_shapes, naming the dataset
+        phi = shapes_to_base(path, frames, nodes + offsets.get(label, 0),
+                             np.array([items[k][7] for k in mine]))
+        for k, shape in zip(mine, phi, strict=True):
+            out[k] = (*items[k][:7], shape)
+    return out
+
+
 def _read_all(pyuff, name: str, path: Path) -> list:
     """Every dataset of the universal file ``name`` (``path`` in messages)."""
     import contextlib
@@ -263,7 +286,8 @@ def _sets(path: Path) -> list:
 
 def read_uff(path: PathType, pose: str | None = None, q=None,
              response: str | None = None) -> UffContent:
-    """Read the 151, 164, 15/2411, 82, 58, 55 and 2414 datasets of a universal file.
+    """Read the 151, 164, 2420/18, 15/2411, 82, 58, 55 and 2414 datasets of a universal
+    file.
 
     Parameters
     ----------
@@ -287,7 +311,7 @@ def read_uff(path: PathType, pose: str | None = None, q=None,
     path = Path(path)
     where = Where(path)
     header, units, factors = {}, "SI", (1.0, 1.0)
-    nodes, coords, frfs, modes = [], [], [], []
+    blocks, systems, frfs, modes = [], {}, [], []
     traces, coherence, masses, offsets = [], [], [], {}
     sets = _sets(path)
     for i, d in enumerate(sets):
@@ -301,8 +325,12 @@ def read_uff(path: PathType, pose: str | None = None, q=None,
                                   "unit factors must be positive")
             units, factors = str(d.get("units_description", "")).strip(), (length, force)
         elif t in _NODES:
-            nodes.append(np.asarray(d["node_nums"], float).astype(np.int64))
-            coords.append(np.column_stack([d["x"], d["y"], d["z"]]) / factors[0])
+            blocks.append((d["node_nums"], np.column_stack([d["x"], d["y"], d["z"]]),
+                           d.get("def_cs", 0), d.get("disp_cs", 0), factors[0]))
+        elif t == 2420:
+            systems.update((c.label, c) for c in systems_2420(path, i, d, factors[0]))
+        elif t == 18:
+            systems.update((c.label, c) for c in systems_18(path, i, d, systems, factors[0]))
         elif t == 82:
             n = int(d.get("n_nodes", len(d["nodes"])))  # pyuff pads the last line with 0
             traces.append(np.asarray(d["nodes"], float).astype(np.int64)[:n])
@@ -330,14 +358,13 @@ def read_uff(path: PathType, pose: str | None = None, q=None,
                         "of other tools have no 'flexarm pose=' mark): give the pose they were "
                         "measured at, --pose NAME or --pose q1,...,q6 [deg]")
     log.info("read %s: %d datasets (%d FRFs, %d modes)", path, len(sets), len(frfs), len(modes))
-    return UffContent(header, units or "SI",
-                      np.concatenate(nodes) if nodes else np.zeros(0, np.int64),
-                      np.concatenate(coords) if coords else np.zeros((0, 3)),
-                      collect_frfs(where, frfs, coherence), _collect_shapes(where, modes),
+    frames = node_frames(path, blocks, systems)
+    return UffContent(header, units or "SI", frames.nodes, frames.coordinates,
+                      tuple(frf_to_base(path, frames, f, offsets.get(f.pose, 0))
+                            for f in collect_frfs(where, frfs, coherence)),
+                      _collect_shapes(where, _modes_to_base(path, frames, modes, offsets)),
                       tuple(int(d["type"]) for d in sets),
-                      pose_geometries(np.concatenate(nodes) if nodes else [],
-                                      np.concatenate(coords) if coords else np.zeros((0, 3)),
-                                      traces, offsets),
+                      pose_geometries(frames.nodes, frames.coordinates, traces, offsets),
                       np.array(masses) if masses else None)
 
 

@@ -29,13 +29,14 @@ which UFF readers take as "not given".
 q_deg=<q1,...,q6>`` and, past the first pose, ID line 5 ``flexarm nodes+=<offset>``
 (ID line 4 keeps its 80 columns for the angles); :mod:`.uff` reads both back.
 
-**Precision**: pyuff writes 55 values with 6 significant digits (the format's E13.5, as
-SDynPy and analyzers parse it), 58 ASCII ordinates with 12 (or binary doubles), 2411
-coordinates with 17.
+**Precision**: 55 values (shapes, frequency, damping, modal mass) with 7 significant
+digits in the format's 13-column fields (:mod:`.uff_write55`; pyuff's writer puts 6
+there), 58 ASCII ordinates with 12 (or binary doubles), 2411 coordinates with 17.
 """
 
 from __future__ import annotations
 
+from itertools import groupby
 from pathlib import Path
 
 import numpy as np
@@ -46,6 +47,7 @@ from ..measurements import DIRECTIONS
 from ..shape_data import ShapeData
 from .uff import UffFrf, _pyuff
 from .uff_geometry import PoseGeometry, pose_offsets
+from .uff_write55 import write_55
 
 __all__ = ["write_uff", "write"]
 
@@ -199,8 +201,23 @@ def write_uff(path: PathType, shapes: ShapeData | None = None, frfs=(),
     for frf in frfs:
         sets += _frf_sets(pyuff, frf, binary, offsets[frf.pose])
     with atomic_path(path) as tmp:
-        pyuff.UFF(str(tmp)).write_sets(sets, mode="overwrite")
+        _write_sets(pyuff, tmp, sets)
     return Path(path)
+
+
+def _write_sets(pyuff, path: Path, sets: list[dict]) -> None:
+    """The sets in their order: 55 sets with seven digits (:mod:`.uff_write55`), every
+    other one with pyuff's writer."""
+    first = True
+    for is_55, run in groupby(sets, key=lambda d: d["type"] == 55):
+        run = list(run)
+        if is_55:
+            with open(path, "w" if first else "a", encoding="ascii", newline="\n") as fh:
+                for d in run:
+                    write_55(fh, d)
+        else:
+            pyuff.UFF(str(path)).write_sets(run, mode="overwrite" if first else "add")
+        first = False
 
 
 def write(path: PathType, data, comments=()) -> Path:
