@@ -25,7 +25,7 @@ from pathlib import Path
 from flexarm.robot.demo_arm import load_demo_robot
 from flexarm.robot.effects import parse_effect
 from flexarm.studies.compensation import BallBar, compensate, loaded_arm, measure_program
-from flexarm.studies.compensation.history import path_history
+from flexarm.studies.compensation.lab.history import path_history
 from flexarm.studies.contact.loaded_circle import THESIS_RAPID
 from flexarm.validation.lab.virtual_lab import run_lab
 from flexarm.validation.workflow import run_diagnosis

@@ -7,10 +7,13 @@ layer and the layers below; ``meshes`` and ``reduction`` are siblings and import
 each other.  Imports inside functions count the same as those at the top.
 
 Inside a layer, the sub-layer tables (:data:`SUBLAYERS`) order the sub-packages and
-modules of ``validation``, ``studies`` and ``studies.exudyn`` the same way: a member
+modules of ``validation``, ``studies``, ``studies.exudyn`` and ``studies.compensation``
+(and its sub-packages) the same way: a member
 imports itself and members of lower rank only.  Members a table does not name take its
 ``"*"`` rank and may import each other (the flat floor of ``studies``).  A package's
 ``__init__`` re-exports its members and is not checked.
+
+The house size: no module of the package is over :data:`MAX_LINES` lines (split it by job).
 """
 
 from __future__ import annotations
@@ -34,7 +37,17 @@ SUBLAYERS = {
     "flexarm.studies": {"tolerances": 0, "plots": 0, "contact": 1, "*": 2, "exudyn": 3},
     "flexarm.studies.exudyn": {"bodies": 0, "damping": 0, "script": 0, "script_standalone": 0,
                                "model": 1, "impulse": 2, "path": 2, "standalone": 2},
+    "flexarm.studies.compensation": {"plots": 0, "solve": 0, "program": 1, "result": 2,
+                                     "workflow": 3, "lab": 4},
+    "flexarm.studies.compensation.solve": {"forces": 0, "ik_batch": 0, "sag": 0,
+                                           "path_ik": 1, "loaded": 1, "fixed_point": 2,
+                                           "limits": 2, "runs": 2},
+    "flexarm.studies.compensation.program": {"rapid_out": 0, "program_path": 0,
+                                             "program_out": 1, "path_in": 1, "densify": 1},
+    "flexarm.studies.compensation.lab": {"measured": 0, "lab_run": 0, "history": 1},
 }
+#: The most lines a module of the package may have.
+MAX_LINES = 400
 
 
 def _module_name(path: Path) -> str:
@@ -125,6 +138,12 @@ def sublayer_violations(graph, tables=SUBLAYERS) -> list[str]:
     return out
 
 
+def oversized(paths, limit: int = MAX_LINES) -> dict[str, int]:
+    """Path -> line count of each file of ``paths`` with more than ``limit`` lines."""
+    counts = {str(p): len(Path(p).read_text().splitlines()) for p in paths}
+    return {p: n for p, n in counts.items() if n > limit}
+
+
 def cycles(graph) -> list[list[str]]:
     """Import cycles between modules (each as the list of modules around it)."""
     edges = {m: sorted({t for _, t in ts if t in graph and t != m}) for m, ts in graph.items()}
@@ -173,6 +192,17 @@ def test_every_member_of_a_sublayer_table_exists_and_says_what_it_may_import(pac
 
 def test_no_import_cycles():
     assert cycles(_graph()) == []
+
+
+def test_no_module_is_over_the_house_size():
+    assert oversized(sorted(PACKAGE.rglob("*.py"))) == {}
+
+
+def test_the_size_check_counts_lines_and_sees_one_over(tmp_path):
+    at, over = tmp_path / "at.py", tmp_path / "over.py"
+    at.write_text("x = 1\n" * MAX_LINES)
+    over.write_text("x = 1\n" * MAX_LINES + "y = 2")  # the last line without its newline
+    assert oversized([at, over]) == {str(over): MAX_LINES + 1}
 
 
 def test_the_check_sees_an_upward_and_a_sibling_import():

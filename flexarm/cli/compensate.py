@@ -72,7 +72,7 @@ def _run_compensate(args) -> int:
     from ..robot.effects import parse_effect
     from ..robot.formats.krl import read_status_turn
     from ..studies.compensation import compensate
-    from ..studies.compensation.program_out import output_files, program_format
+    from ..studies.compensation.program.program_out import output_files, program_format
 
     fmt = program_format(args.output, args.format)  # bad names fail before the work
     output_files(args.output, fmt, args.csv, args.png)
@@ -99,8 +99,8 @@ def _add_history(p: argparse.ArgumentParser) -> None:
                    help="measured paths (step,x_mm,y_mm,z_mm,f_N, what lab --program writes), "
                         "one per step of the loop, in order (and per procedure)")
     p.add_argument("--program", required=True,
-                   help="the original RAPID module (what the part needs), not a compensated "
-                        "one")
+                   help="the original program (what the part needs), not a compensated one: "
+                        "a RAPID module or a CSV of poses")
     p.add_argument("--label", action="append", default=None,
                    help="step label of each path, in order (repeatable; default: the file "
                         "names); paths of several procedures with one label form one step")
@@ -119,7 +119,7 @@ def _add_history(p: argparse.ArgumentParser) -> None:
 def _run_history(args) -> int:
     from pathlib import Path
 
-    from ..studies.compensation.history import PICTURE_SUFFIXES, path_history
+    from ..studies.compensation.lab.history import PICTURE_SUFFIXES, path_history
 
     picture = Path(args.output)
     if picture.suffix.lower() not in PICTURE_SUFFIXES:

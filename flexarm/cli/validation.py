@@ -61,11 +61,15 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
                    default=None, help="band of the FRFs of a --modal universal "
                    "file [Hz], LO:HI (default: 0.25 Hz to 1.2x the highest mode kept), "
                    "e.g. 0.25:300 to reach the wrist modes")
-    p.add_argument("--program", default=None, help="run this RAPID module under --force "
-                   "instead of static series, and write the measured tool path (path CSV)")
-    p.add_argument("--reference", default=None, help="with --program: the module the path is "
+    p.add_argument("--program", default=None, help="run this program (a RAPID module, or a "
+                   "CSV of poses as compensate reads it) under --force instead of static "
+                   "series, and write the measured tool path (path CSV)")
+    p.add_argument("--reference", default=None, help="with --program: the program the path is "
                    "measured against, e.g. the original of a compensated program (default: "
                    "the program)")
+    p.add_argument("--orientation", type=numbers("ratio", "", -1.0, 1.0, n=4), default=None,
+                   metavar="QW,QX,QY,QZ", help="with a --program CSV of positions only: the "
+                   "tool orientation of every pose, a unit quaternion in the base frame")
     p.add_argument("--force", default=None, help="with --program: the process force, as "
                    "compensate takes it (ballbar:800N, tool:fz=300, base:..., forces.csv)")
     p.add_argument("--proc", action="append", default=None, help="with --program: procedure "
@@ -86,7 +90,7 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
 def _run_program_lab(args) -> int:
     """``lab --program``: the measured path of a program under load."""
     from ..robot.effects import parse_effect
-    from ..studies.compensation.lab import lab_program
+    from ..studies.compensation.lab.lab_run import lab_program
     from ._common import arm_spec_from, robot_from
 
     if args.force is None:
@@ -101,7 +105,7 @@ def _run_program_lab(args) -> int:
                       procs=procs, reference=args.reference, spec=arm_spec_from(args),
                       noise=args.noise, seed=args.seed, pivot=args.pivot,
                       tool=None if args.tool == "program" else args.tool, step_mm=args.step,
-                      progress=say)
+                      orientation=args.orientation, progress=say)
     out(lab.text())
     wrote(lab.write(args.output))
     return 0
@@ -114,6 +118,8 @@ def _run_lab(args) -> int:
 
     if args.program is not None:
         return _run_program_lab(args)
+    if args.orientation is not None:
+        raise ValueError("--orientation goes with --program (a CSV of positions only)")
     lab = run_lab(args.robot, args.effect, _options(args), noise=args.noise, poses=args.poses,
                   loads=args.loads, dirs=args.dirs, cycles=args.cycles, seed=args.seed,
                   ref_noise=args.ref_noise, modal=args.modal is not None, n_modes=args.n_modes,
@@ -133,8 +139,9 @@ def _add_compare(p: argparse.ArgumentParser) -> None:
                    help="tracker noise [µm] (no sigma column)")
     p.add_argument("--freq-noise", type=_PERCENT, default=0.5, help="frequency noise [%%] (modal)")
     p.add_argument("-o", "--output", default=None, help="report folder (CSV, PNG)")
-    p.add_argument("--program", default=None, help="a path CSV against this RAPID module's "
-                   "programmed path (the original program): RMS and peak deviation")
+    p.add_argument("--program", default=None, help="a path CSV against this program's "
+                   "programmed path (the original program: a RAPID module or a CSV of "
+                   "poses): RMS and peak deviation")
     p.add_argument("--proc", default=None, help="with --program: the procedure (default: the "
                    "one the file names in a '# procedure:' comment, else the one nearest to "
                    "the readings)")
@@ -147,7 +154,7 @@ def _run_compare(args) -> int:
     from ..validation.workflow import compare
 
     if args.program is not None:
-        from ..studies.compensation.measured import compare_path
+        from ..studies.compensation.lab.measured import compare_path
 
         out(compare_path(args.data, args.program, args.proc).text())
         return 0

@@ -11,7 +11,7 @@ from flexarm.validation.data.formats import read_measurements
 from ..cli_run import run_cli
 
 THESIS = str(files("flexarm") / "data" / "rapid" / "ldbb_thesis.mod")
-#: The lab arm of tests/studies/compensation/test_lab.py: stiffness ±30 %, a hidden backlash.
+#: The lab arm of tests/studies/compensation/lab/test_lab_run.py: stiffness ±30 %, backlash.
 HIDDEN = [a for j, s in enumerate((1.3, 0.7, 1.3, 0.7, 1.3, 0.7))
           for a in ("--effect", f"stiffness:j{j + 1}={s}")] + ["--effect", "backlash:j2=0.1mrad"]
 PATH = ["--proc", "Path_30", "--force", "ballbar:800N", "--step", "4"]

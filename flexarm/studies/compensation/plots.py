@@ -142,9 +142,9 @@ def plot_history(history, path) -> Path:
     Examples
     --------
     >>> import tempfile, os
-    >>> from flexarm.studies.compensation.history import PathHistory
-    >>> from flexarm.studies.compensation.measured import MeasuredPath
-    >>> from flexarm.studies.compensation.runs import PathRun, circle_of
+    >>> from flexarm.studies.compensation.lab.history import PathHistory
+    >>> from flexarm.studies.compensation.lab.measured import MeasuredPath
+    >>> from flexarm.studies.compensation.solve.runs import PathRun, circle_of
     >>> phi = np.linspace(0, 2 * np.pi, 90)
     >>> ref = np.c_[1 + 0.1 * np.cos(phi), 0.1 * np.sin(phi), np.zeros(90)]
     >>> runs = [PathRun("Path_30", ref, ref * s, ref * s - ref, circle_of(ref))

@@ -15,9 +15,9 @@ import numpy as np
 
 from ...fe.files import atomic_path
 from ...fe.typing import FloatArray, PathType
-from .limits import Limits
-from .rapid_out import write_module_text
-from .runs import PathRun
+from .program.rapid_out import write_module_text
+from .solve.limits import Limits
+from .solve.runs import PathRun
 
 __all__ = ["TargetShift", "CompensationResult", "CSV_COLUMNS"]
 
@@ -198,7 +198,7 @@ class CompensationResult:
                       ptp_percent: float | None = None) -> list[Path]:
         """The compensated program as RAPID, KUKA KRL or a CSV of poses, by the suffix
         or ``fmt`` (:func:`~.program_out.write_program`)."""
-        from .program_out import write_program
+        from .program.program_out import write_program
 
         return write_program(self, path, fmt, template, ptp_percent)
 
@@ -209,6 +209,6 @@ class CompensationResult:
         """The program (:meth:`write_program`), and the CSV and picture next to it
         (default names :func:`~.program_out.report_paths`), all or none of them
         (:func:`~.program_out.write_outputs`); returns the paths written."""
-        from .program_out import write_outputs
+        from .program.program_out import write_outputs
 
         return write_outputs(self, module, csv_path, png, fmt, template, ptp_percent)

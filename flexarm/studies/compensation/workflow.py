@@ -2,7 +2,7 @@
 program out.
 
 :func:`compensate` reads the module, runs every chosen procedure through the loaded arm
-(:mod:`.program`, :mod:`.loaded`), shifts each named robtarget by the fixed point of
+(:mod:`.program_path`, :mod:`.loaded`), shifts each named robtarget by the fixed point of
 :mod:`.fixed_point`, rewrites only those robtargets in the user's text
 (:mod:`.rapid_out`), predicts the loaded path of the programmed and of the compensated
 program (:mod:`.runs`) and names where a static shift cannot help (:mod:`.limits`).
@@ -23,17 +23,17 @@ from ...robot.ik_path import TOOL0, rapid_conf, target_frames
 from ...robot.quaternions import quat_from_matrix
 from ..contact.ball_bar import default_pivot
 from ..tolerances import tol
-from .densify import densify
-from .fixed_point import correct_targets
-from .forces import BallBar, ForceSpec, parse_force, path_wrenches, target_wrenches
-from .ik_batch import pose_errors
-from .limits import Limits, law_jumps, limit_hits, near_singular
-from .loaded import LoadedArm, law_rotations, loaded_arm
-from .path_in import read_program
-from .program import ProgramPath, program_paths
-from .rapid_out import module_of_text, rewrite_targets, written_pose
+from .program.densify import densify
+from .program.path_in import read_program
+from .program.program_path import ProgramPath, program_paths
+from .program.rapid_out import module_of_text, rewrite_targets, written_pose
 from .result import CompensationResult, TargetShift
-from .runs import run_program
+from .solve.fixed_point import correct_targets
+from .solve.forces import BallBar, ForceSpec, parse_force, path_wrenches, target_wrenches
+from .solve.ik_batch import pose_errors
+from .solve.limits import Limits, law_jumps, limit_hits, near_singular
+from .solve.loaded import LoadedArm, law_rotations, loaded_arm
+from .solve.runs import run_program
 
 __all__ = ["compensate", "procedure_pivot"]
 

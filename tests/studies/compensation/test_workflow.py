@@ -7,7 +7,7 @@ from flexarm.robot.formats.rapid import read_rapid
 from flexarm.robot.ik_path import target_frames
 from flexarm.robot.paths import sample_procedure
 from flexarm.studies.compensation import compensate
-from flexarm.studies.compensation.ik_batch import pose_errors
+from flexarm.studies.compensation.solve.ik_batch import pose_errors
 
 from .conftest import MILLING, THESIS
 
