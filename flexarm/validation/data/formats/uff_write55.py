@@ -11,7 +11,7 @@ split on white space (UFFFiles.jl) need: a negative value with a one-digit expon
 written with that exponent unpadded (``-1.234567E-3``, valid input for Fortran, C, Python,
 Julia); one with a two-digit exponent (below 1e-9 or above 1e10) keeps six digits.
 
-Otherwise the records are pyuff's (:func:`pyuff.prepare_55` dictionaries in, the same
+Otherwise the records are pyuff's (``pyuff.prepare_55`` dictionaries in, the same
 lines out), so the file reads as before.
 """
 
@@ -49,7 +49,7 @@ def e13(values) -> str:
 
 
 def write_55(fh, dset: dict) -> None:
-    """Write one 55 set (a :func:`pyuff.prepare_55` dictionary of a normal (2) or complex
+    """Write one 55 set (a ``pyuff.prepare_55`` dictionary of a normal (2) or complex
     (3, 7) mode, 3 values per node) to the text file ``fh``."""
     kind = int(dset["analysis_type"])
     r = [np.asarray(dset[k]) for k in ("r1", "r2", "r3")]
