@@ -6,10 +6,10 @@ as ratios that exceed the model's in exactly the modes that store energy in that
 one amplitude, its extra ratio ``delta_j`` [-], whose signature is its energy share
 ``e_jr`` (:func:`~flexarm.validation.dynamic.damping_fit.damping_design`).  Identified ratios are
 taken to scatter by ``sigma_rel`` times themselves, independently per mode and pose, and
-by ``1 + overlap`` times that where a mode's half-power band meets a neighbour's
-(:func:`modal_overlap`): an identification cannot split the damping of two overlapping
-modes well (on the demo arm's wrist, LSCF gets them 20-40 % wrong where separated modes
-come out within a few per cent), and at 5 % they would outweigh everything else.
+by ``1 + w overlap`` times that where a mode's half-power band meets a neighbour's
+(:func:`modal_overlap`; ``w`` is ``tol.damping_overlap_widening``): an identification
+splits the damping of two overlapping modes less well (on the demo arm's wrist, zoomed and
+refined LSCF gets them within 6 %, separated modes within a few per cent).
 
 The search is forward and greedy, like the static diagnosis: the candidate with the largest
 chi-square gain is accepted when its gain exceeds the chi-square(1) quantile at ``alpha``
@@ -33,6 +33,7 @@ from ...fe.typing import PathType
 from ...robot.description import Robot
 from ..data.measurements import ModalData
 from ..models import DEFAULT_OPTIONS, ValidationOptions
+from ..tolerances import tol
 from .damping_fit import MIN_SHARE, damping_inputs
 
 __all__ = ["DampingDiagnosis", "diagnose_damping", "modal_overlap"]
@@ -178,7 +179,8 @@ def diagnose_damping(data: ModalData | PathType, robot: Robot | PathType | None 
         The model under test (None: the demo arm).
     sigma_rel : float
         Relative scatter of an identified damping ratio [-] (0.05: 5 %) of a mode clear
-        of its neighbours; ``1 + overlap`` times that for overlapping modes.
+        of its neighbours; ``1 + w overlap`` times that for overlapping modes
+        (``w``: ``tol.damping_overlap_widening``).
     alpha : float
         Chance of accepting a joint on damping-correct data (at most).
     max_effects : int
@@ -190,7 +192,7 @@ def diagnose_damping(data: ModalData | PathType, robot: Robot | PathType | None 
     """
     modal, robot, arm, d, zeta = damping_inputs(data, robot, options, max_hz, pose)
     overlap = modal_overlap(modal.freq_hz, modal.damping_ratio, modal.poses)[d.row]
-    sd = sigma_rel * zeta * (1.0 + overlap)
+    sd = sigma_rel * zeta * (1.0 + tol.damping_overlap_widening * overlap)
     A = d.E / sd[:, None]
     r = (zeta - d.model) / sd
     seen = d.E.max(axis=0) >= MIN_SHARE

@@ -6,21 +6,24 @@ common-denominator model to every FRF of a pose at orders 1, 2, ..., ``max_order
 orders give the stabilisation diagram.  The poles kept are picked automatically, as an
 analyst picks columns of the diagram: a pole is *stable* when the previous order has
 one within ``STABLE_FREQ`` in frequency and ``STABLE_DAMPING`` in damping ratio; stable
-poles within ``CLUSTER`` of each other form a column, and a column stable at
-``min_stable`` of the orders is a mode (its medoid pole, the one nearest the column's
-median frequency, is taken: a noise pole that joins a column at a high order does not
-become the mode).  A wide band is split into overlapping sub-bands of a few expected
-modes each and their poles merged, one per mode (:mod:`.ema_bands`).  Each pole is then
-refined on the modal model's own residual around it, and LSFD fits the residues of the
-poles to every FRF over the whole band, with lower and upper residual terms.  With
-several references, the residues of a mode form a rank-one matrix ``phi_out
-phi_ref^T``: its dominant left singular vector is the mode shape, turned real
-(normal-mode approximation) by the rotation that maximises its real part.
+poles within ``CLUSTER`` of each other form a column (one pole per order: a group with
+two poles at as many orders as make a mode is two close modes, cut at its widest gap),
+and a column stable at ``min_stable`` of the orders is a mode (its medoid pole, the one
+nearest the column's median frequency, is taken: a noise pole that joins a column at a
+high order does not become the mode).  A wide band is split into overlapping sub-bands
+of a few expected modes each and their poles merged, one per mode (:mod:`.ema_bands`).
+Each pole is then refined on the modal model's own residual around it, and LSFD fits
+the residues of the poles to every FRF over the whole band, with lower and upper
+residual terms.  With several references, the residues of a mode form a rank-one
+matrix ``phi_out phi_ref^T``: its dominant left singular vector is the mode shape,
+turned real (normal-mode approximation) by the rotation that maximises its real part.
 
 Lines are weighted in both least-squares steps by the inverse variance of an H1
 estimate, ``gamma^2 / (1 - gamma^2)`` of their coherence
 (:func:`~.frf_weights.coherence_weight`, floored at ``tol.ema_weight_floor`` of the
-largest) when the file has one for every FRF, and equally otherwise.
+largest) when the file has one for every FRF, and equally otherwise; where the FRFs are
+pooled (the common denominator, the pole refinement) each is scaled to unit RMS over the
+band, so that the channels the strong modes barely move, where weak modes show, count.
 
 Modal mass: the residues ``A`` are those of ``H = sum_r A_r / (i w - l_r) + conj``, so a
 mass-normalised real shape ``psi`` has ``psi psi^T = 2 i w_d A_r``.  At the driving

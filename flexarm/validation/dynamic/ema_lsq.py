@@ -8,7 +8,8 @@ polynomials in ``z = exp(i theta)``.  A band from near 0 Hz is mapped as ``theta
 f_hi`` with real coefficients (conjugate pole pairs; order ``j`` has ``2 j`` of them); a
 band higher up (bottom above ``tol.ema_zoom_above`` of its top) is mapped onto the arc
 ``theta in [0, 2 pi ZOOM]`` with complex coefficients ("FRF zoom": each mode in the band
-is one root, and close modes high up are resolved as well as low ones).  The linearised
+is one root, and close modes high up are resolved as well as low ones).  Each FRF is
+first divided by its weighted RMS over the band (:func:`_frf_rms`).  The linearised
 error ``sqrt(w_ok) (B_o - H_ok A)`` of FRF ``o`` at line ``k`` is minimised in least
 squares with the textbook constraint (the constant term of ``A`` is 1: noise poles come
 out unstable); the normal matrices are Toeplitz in the power index, so they are sums
@@ -70,6 +71,19 @@ def _band_lines(freq_hz, H, weights, f_lo, f_hi):
     return freq[on], H, W
 
 
+def _frf_rms(H: np.ndarray, W: np.ndarray) -> np.ndarray:
+    """(n,) weighted RMS of each FRF over its lines (1 for an FRF that is all zero).
+
+    Both least-squares steps that pool the FRFs (the common denominator, the pole
+    refinement) see each FRF divided by it: a channel that moves little (a point near a
+    node of the strong modes) is often where a weak mode shows best, and unscaled it
+    would add nothing to the pooled fit.
+    """
+    rms = np.sqrt(np.sum(W * np.abs(H) ** 2, axis=1)
+                  / np.maximum(np.sum(W, axis=1), np.finfo(float).tiny))
+    return np.where(rms > 0, rms, 1.0)
+
+
 def lscf_poles(freq_hz: ArrayLike, H: ArrayLike, f_lo: float, f_hi: float, max_order: int,
                weights: ArrayLike | None = None, real: bool | None = None
                ) -> list[np.ndarray]:
@@ -117,8 +131,8 @@ def lscf_poles(freq_hz: ArrayLike, H: ArrayLike, f_lo: float, f_hi: float, max_o
     real = f_lo <= tol.ema_zoom_above * f_hi if real is None else bool(real)
     # an order needs as many lines as coefficients
     n = min(int(max_order) * (2 if real else 1), len(freq) - 1)
-    scale = np.max(np.abs(Hb)) or 1.0
-    Hb, W = Hb / scale, W / (np.max(W) or 1.0)
+    W = W / (np.max(W) or 1.0)
+    Hb = Hb / _frf_rms(Hb, W)[:, None]
     # theta = ts (omega - omega_0) [rad]: 0 ... pi over 0 ... f_hi, or the zoom
     ts, f0 = (0.5 / f_hi, 0.0) if real else (ZOOM / (f_hi - f_lo), f_lo)
     m = np.arange(-n, n + 1)
@@ -232,12 +246,13 @@ def refine_poles(freq_hz: ArrayLike, H: ArrayLike, poles: ArrayLike, f_lo: float
 
     LSCF's poles minimise a linearised error (``B - H A``), which noise biases, chiefly
     in damping.  Each pole is moved, the others held, to minimise the weighted LSFD
-    residual of the lines around it (``tol.ema_refine_window`` times ``zeta f`` each
-    side, at least ``tol.ema_refine_lines`` lines; the residues of the pole and its
-    neighbours solved anew at every step, variable projection; the modes farther away
-    taken off with their residues from the whole band), one pole after the other up
-    the band.  A move is kept only when it lowers that residual, stays within
-    ``tol.ema_refine_step`` in frequency and keeps a damping ratio between 0 and 0.2.
+    residual of the lines around it (each FRF scaled to unit RMS over the band, as in
+    :func:`lscf_poles`; ``tol.ema_refine_window`` times ``zeta f`` each side, at least
+    ``tol.ema_refine_lines`` lines; the residues of the pole and its neighbours solved
+    anew at every step, variable projection; the modes farther away taken off with their
+    residues from the whole band), one pole after the other up the band.  A move is kept
+    only when it lowers that residual, stays within ``tol.ema_refine_step`` in frequency
+    and keeps a damping ratio between 0 and 0.2.
 
     Parameters
     ----------
@@ -274,6 +289,8 @@ def refine_poles(freq_hz: ArrayLike, H: ArrayLike, poles: ArrayLike, f_lo: float
     freq_all = np.asarray(freq_hz, float)
     H = np.asarray(H, complex)
     W_all = np.ones(H.shape) if weights is None else np.asarray(weights, float)
+    _, Hb, Wb = _band_lines(freq_all, H, W_all, f_lo, f_hi)
+    W_all = W_all / _frf_rms(Hb, Wb)[:, None] ** 2
     poles = np.array(poles, complex)
     df = float(np.median(np.diff(freq_all))) if len(freq_all) > 1 else 1.0
     A = lsfd_residues(freq_all, H, poles, f_lo, f_hi, weights)[0]  # (n, k)

@@ -73,10 +73,28 @@ def pick_columns(stable: np.ndarray, n_orders: int, min_stable: float) -> np.nda
     if not len(stable):
         return np.zeros((0, 4))
     s = stable[np.argsort(stable[:, 2], kind="stable")]
-    cols = np.split(s, np.flatnonzero(np.diff(s[:, 2]) / s[:-1, 2] > CLUSTER) + 1)
+    need = min_stable * n_orders
+    groups = np.split(s, np.flatnonzero(np.diff(s[:, 2]) / s[:-1, 2] > CLUSTER) + 1)
+    cols = [c for g in groups for c in _one_pole_per_order(g, need)]
     keep = [c[np.argmin(np.abs(c[:, 2] - np.median(c[:, 2])))] for c in cols
-            if len(np.unique(c[:, 0])) >= min_stable * n_orders]
+            if len(np.unique(c[:, 0])) >= need]
     return np.array(keep) if keep else np.zeros((0, 4))
+
+
+def _one_pole_per_order(group: np.ndarray, need: float) -> list[np.ndarray]:
+    """``group`` (rows of :func:`stable_poles` by frequency) as columns: cut at its widest
+    frequency gap, part by part, while it holds two poles at ``need`` orders or more.
+
+    Two modes a little more than ``CLUSTER`` apart chain into one group through the
+    poles between them (the single pole of the orders too low to split the pair); a
+    column has one pole per order, so a group with two at as many orders as make a mode
+    holds two modes.  A noise pole that joins a column at a few orders does not cut it.
+    """
+    _, per_order = np.unique(group[:, 0], return_counts=True)
+    if len(group) < 2 or np.sum(per_order >= 2) < max(need, 1):
+        return [group]
+    cut = int(np.argmax(np.diff(group[:, 2]))) + 1
+    return [*_one_pole_per_order(group[:cut], need), *_one_pole_per_order(group[cut:], need)]
 
 
 def band_poles(freq_hz: np.ndarray, H: np.ndarray, weights: np.ndarray | None,

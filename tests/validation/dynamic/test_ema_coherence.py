@@ -36,9 +36,11 @@ def _ruined(seed: int, level: float = 1.0):
                                   pytest.param(2, marks=pytest.mark.slow)])
 def test_coherence_weighting_recovers_the_modes_the_plain_fit_loses(tmp_path, seed):
     """Weighted: the twelve modes once each, within 0.1 % / 5 % (worst frequency error
-    0.002 %, worst damping error 0.2-0.3 % over seeds 0-2).  Unweighted, from the same
-    file: poles made up (12, 19, 29 of them) or a frequency 0.1-39 % off, and the worst
-    damping error past 30 % (36-112 %)."""
+    0.002 %, worst damping error 0.1-0.3 % over seeds 0-2).  Unweighted, from the same
+    file: poles made up (17 and 30 of them at seeds 1 and 2), or every mode once but a
+    worst frequency and damping error 20 times the weighted fit's (seed 0: 0.07 %, 4.7 %;
+    with each FRF scaled to its RMS the ruined driving point no longer sets the fit
+    alone)."""
     path = write_uff(tmp_path / "frf.uff", frfs=[_ruined(seed)])
     assert read_uff(path).frfs[0].coherence is not None  # the reader keeps it
     weighted, = run_ema(path).poses
@@ -46,9 +48,8 @@ def test_coherence_weighting_recovers_the_modes_the_plain_fit_loses(tmp_path, se
     assert weighted.weighted and not plain.weighted
     n, hit, df, dz = errors(weighted.freq_hz, weighted.damping)
     assert (n, hit) == (12, 12) and df < 1e-3 and dz < 0.05, (n, hit, df, dz)
-    n, hit, df, dz = errors(plain.freq_hz, plain.damping)
-    assert (n, hit) != (12, 12) or df > 1e-3
-    assert dz > 0.3, dz
+    n, hit, df_plain, dz_plain = errors(plain.freq_hz, plain.damping)
+    assert n > 12 or (df_plain > 10 * df and dz_plain > 10 * dz), (n, df_plain, dz_plain)
 
 
 def test_ema_command_weights_unless_told_not_to(tmp_path):
