@@ -34,9 +34,8 @@ class Published:
     pose: str = "0,20,-20,0,30,0"
 
 
-#: The robots of issue 26, at the edge their seats were found for (gmsh keeps the edge it
-#: is given: coarser, the M-20iA's joint-4 seat on link_3 and the UR10's wrist_3 seat hold
-#: fewer than the pair check's 6 nodes, measured 2026-11-27).
+#: The robots of issue 26, at the edge their seats were found for (the build refines the
+#: mesh over a seat too small for it: :mod:`flexarm.robot.seat_mesh`).
 ROBOTS = {
     "m20ia": Published("m20ia", DATA / "fanuc_m20ia/urdf/m20ia.urdf", 250.0, 0.03),
     "ur10": Published("ur10", DATA / "ur10/urdf/ur10.urdf", 28.9, 0.03),

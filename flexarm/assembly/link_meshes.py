@@ -59,6 +59,13 @@ def _surface(link: Link):
     return load_surface(link.mesh, units=link.units)
 
 
+def _local_sizes(link: Link, mesh_size: float) -> tuple:
+    """Where the link's seats need a finer edge than ``mesh_size`` [m] (Gmsh takes them)."""
+    from ..robot.seat_mesh import seat_local_sizes
+
+    return seat_local_sizes(link, mesh_size)
+
+
 def _pinned(link: Link, mesh_size: float, order: int) -> LinkMesh | None:
     from ..robot.volume_meshes import pinned_mesh
 
@@ -82,7 +89,9 @@ def meshed_link(link: Link, mesh_size: float, order: int = 1, progress=None,
     mesher : {"tetwild", "gmsh", "auto"} or Mesher
         The robot's ``model.mesher``, or a :data:`Mesher` callable (tests use structured
         box meshes).  A volume mesh the link names for ``mesh_size`` is read instead
-        (:func:`~flexarm.robot.volume_meshes.pinned_mesh`).
+        (:func:`~flexarm.robot.volume_meshes.pinned_mesh`).  Gmsh refines the edge over
+        the seats that would hold too few nodes at ``mesh_size``
+        (:func:`~flexarm.robot.seat_mesh.seat_local_sizes`).
 
     Examples
     --------
@@ -102,7 +111,7 @@ def meshed_link(link: Link, mesh_size: float, order: int = 1, progress=None,
     from ..meshes import mesh_surface
 
     made = mesh_surface(_surface(link), mesh_size, mesher, order=order, name=link.name,
-                        progress=progress)
+                        progress=progress, local_sizes=_local_sizes(link, mesh_size))
     return LinkMesh(made.mesh, made.mesher, made.note, made.seconds, made.is_cached)
 
 
@@ -115,7 +124,8 @@ def cached_link_mesh(link: Link, mesh_size: float, order: int = 1,
         return pinned
     from ..meshes import cached_surface_mesh
 
-    made = cached_surface_mesh(_surface(link), mesh_size, mesher, order=order)
+    made = cached_surface_mesh(_surface(link), mesh_size, mesher, order=order,
+                               local_sizes=_local_sizes(link, mesh_size))
     return None if made is None else LinkMesh(made.mesh, made.mesher, made.note, made.seconds,
                                               True)
 

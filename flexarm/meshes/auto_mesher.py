@@ -26,6 +26,7 @@ from ..fe.cache import cache_key, cached
 from ..fe.errors import MeshError, MissingDependencyError
 from ..fe.mesh import TetMesh
 from .gmsh_mesher import tetrahedralize_gmsh
+from .local_size import LocalSize, local_sizes_key
 from .self_intersections import united_surface
 from .tet_cache import (
     MESHER_LIBRARY,
@@ -92,7 +93,7 @@ def _check_setting(mesher: str) -> None:
                          f"got {mesher!r}")
 
 
-def _choice_key(surface, size: float, optimize: bool, order: int) -> str:
+def _choice_key(surface, size: float, optimize: bool, order: int, local=()) -> str:
     from .gmsh_model import gmsh_settings
 
     return cache_key("mesher-choice", _CHOICE_VERSION,
@@ -100,7 +101,7 @@ def _choice_key(surface, size: float, optimize: bool, order: int) -> str:
                      np.ascontiguousarray(surface.faces, dtype=np.int64), float(size),
                      bool(optimize), int(order), tol.self_intersection_gap,
                      tol.self_intersection_merge, tol.self_intersection_volume,
-                     *mesher_key_parts("gmsh", gmsh_settings()),
+                     *mesher_key_parts("gmsh", gmsh_settings() + local_sizes_key(local)),
                      *mesher_key_parts("tetwild"),
                      libraries=(*MESHER_LIBRARY.values(), "manifold3d"))
 
@@ -123,14 +124,17 @@ def _gmsh_surface(surface, name: str) -> tuple[object | None, str]:
     return clean, ""
 
 
-def _auto(surface, size, optimize, order, cache, name, progress) -> tuple[TetMesh, str, str, str]:
-    """(mesh, mesher, note, tet-cache key) of the ``"auto"`` rule."""
+def _auto(surface, size, optimize, order, cache, name, progress,
+          local=()) -> tuple[TetMesh, str, str, str]:
+    """(mesh, mesher, note, tet-cache key) of the ``"auto"`` rule (``local`` sizes: Gmsh's
+    only)."""
     clean, note = _gmsh_surface(surface, name)
     if clean is not None:
         from .gmsh_model import gmsh_settings
 
         try:
-            mesh = tetrahedralize_gmsh(clean, size, optimize, order, cache, name, progress)
+            mesh = tetrahedralize_gmsh(clean, size, optimize, order, cache, name, progress,
+                                       local)
         except MeshError as exc:  # "<name>: gmsh failed (...); try mesher='tetwild'"
             why = str(exc).removeprefix(f"{name}: ")
             for advice in ("; try mesher='tetwild'", " (try mesher='tetwild')"):
@@ -139,7 +143,8 @@ def _auto(surface, size, optimize, order, cache, name, progress) -> tuple[TetMes
         else:
             return mesh, "gmsh", "", tet_cache_key(clean.vertices, clean.faces, size, optimize,
                                                    order, mesher="gmsh",
-                                                   settings=gmsh_settings())
+                                                   settings=gmsh_settings()
+                                                   + local_sizes_key(local))
     # one line on stderr: the user learns why this part will not mesh twice alike
     warnings.warn(f"{name}: meshed by fTetWild ({note}): not reproducible between fresh "
                   f"caches", stacklevel=4)
@@ -157,6 +162,7 @@ def mesh_surface(
     cache: bool = True,
     name: str = "surface",
     progress: Callable[[str], None] | None = None,
+    local_sizes: tuple[LocalSize, ...] = (),
 ) -> SurfaceMesh:
     """Tetrahedral mesh of the solid inside ``surface`` by the ``mesher`` setting.
 
@@ -171,6 +177,9 @@ def mesh_surface(
         the surface and the reason).
     optimize, order, cache, name, progress
         As for :func:`~flexarm.meshes.tetwild.tetrahedralize`.
+    local_sizes : tuple of LocalSize
+        Where the edge must be finer (:mod:`.local_size`): Gmsh takes them, fTetWild
+        meshes at ``size``.
 
     Returns
     -------
@@ -185,40 +194,46 @@ def mesh_surface(
     """
     _check_setting(mesher)
     start = time.perf_counter()
+    local = tuple(local_sizes)
+    if mesher == "gmsh":
+        mesh = tetrahedralize_gmsh(surface, size, optimize, order, cache, name, progress, local)
+        return SurfaceMesh(mesh, mesher, "", time.perf_counter() - start)
     if mesher != "auto":
-        make = tetrahedralize_gmsh if mesher == "gmsh" else tetrahedralize
-        mesh = make(surface, size, optimize, order, cache, name, progress)
+        mesh = tetrahedralize(surface, size, optimize, order, cache, name, progress)
         return SurfaceMesh(mesh, mesher, "", time.perf_counter() - start)
     check_mesh_request(surface, float(size), name)  # before the surface checks: wrong units
     if not cache:
-        mesh, used, note, _ = _auto(surface, size, optimize, order, False, name, progress)
+        mesh, used, note, _ = _auto(surface, size, optimize, order, False, name, progress, local)
         return SurfaceMesh(mesh, used, note, time.perf_counter() - start)
     made = {}
 
     def choose() -> dict:
         made["mesh"], used, note, key = _auto(surface, size, optimize, order, True, name,
-                                              progress)
+                                              progress, local)
         return {"mesher": used, "note": note, "tets": key}
 
-    entry = cached("mesher-choice", _choice_key(surface, size, optimize, order), choose)
+    entry = cached("mesher-choice", _choice_key(surface, size, optimize, order, local), choose)
     choice = entry.value
     mesh = made["mesh"] if "mesh" in made else cached_mesh(choice["tets"])
     if mesh is None:  # the mesh entry was removed since: mesh again by the same rule
-        mesh = made["mesh"] = _auto(surface, size, optimize, order, True, name, progress)[0]
+        mesh = made["mesh"] = _auto(surface, size, optimize, order, True, name, progress,
+                                    local)[0]
     return SurfaceMesh(mesh, choice["mesher"], choice["note"], time.perf_counter() - start,
                        "mesh" not in made)
 
 
 def cached_surface_mesh(surface, size: float, mesher: str = "auto", optimize: bool = True,
-                        order: int = 1) -> SurfaceMesh | None:
+                        order: int = 1, local_sizes: tuple[LocalSize, ...] = ()
+                        ) -> SurfaceMesh | None:
     """The :class:`SurfaceMesh` of :func:`mesh_surface` if the package cache holds it, else
     None (nothing is meshed; under ``"auto"`` a known choice is needed)."""
     from ..fe.cache import lookup
 
     _check_setting(mesher)
     start = time.perf_counter()
+    local = tuple(local_sizes)
     if mesher == "auto":
-        choice = lookup("mesher-choice", _choice_key(surface, size, optimize, order))
+        choice = lookup("mesher-choice", _choice_key(surface, size, optimize, order, local))
         if choice is None:
             return None
         mesh, used, note = cached_mesh(choice["tets"]), choice["mesher"], choice["note"]
@@ -227,7 +242,7 @@ def cached_surface_mesh(surface, size: float, mesher: str = "auto", optimize: bo
         if mesher == "gmsh":
             from .gmsh_model import gmsh_settings
 
-            settings = gmsh_settings()
+            settings = gmsh_settings() + local_sizes_key(local)
         key = tet_cache_key(surface.vertices, surface.faces, size, optimize, order,
                             mesher=mesher, settings=settings)
         mesh, used, note = cached_mesh(key), mesher, ""

@@ -62,6 +62,7 @@ from .gmsh_model import (
     _session,
     gmsh_settings,
 )
+from .local_size import LocalSize, local_sizes_key, size_callback
 from .quality import dihedral_angles
 from .tet_cache import cached_tetrahedralization
 from .tetwild import _compact
@@ -95,9 +96,14 @@ def _mesh_arrays(gmsh, element_type: int) -> tuple[np.ndarray, np.ndarray]:
     return points, index[np.asarray(connectivity, dtype=np.int64).reshape(-1, n_corners)]
 
 
-def _premesh(gmsh, vertices, faces, labels, size: float) -> int:
-    """Pass 1: well-shaped triangles on the exact planar facets (a volume is defined too)."""
+def _premesh(gmsh, vertices, faces, labels, size: float, fraction: float = 1.0,
+             local=()) -> int:
+    """Pass 1: well-shaped triangles on the exact planar facets (a volume is defined too),
+    with ``local`` sizes (:class:`~.local_size.LocalSize`) scaled by the pre-mesh
+    ``fraction`` where this surface is the final one."""
     gmsh.model.add("flexarm-premesh")
+    if local:
+        gmsh.model.mesh.setSizeCallback(size_callback(local, fraction))
     n_split = _planar_brep(gmsh, vertices, faces, labels)
     if n_split:
         logger.info("%d facets with a pinched outline pre-meshed triangle by triangle", n_split)
@@ -118,12 +124,16 @@ def _volume(gmsh, size: float, optimize: bool) -> tuple[np.ndarray, np.ndarray]:
     return points, tets
 
 
-def _remeshed(gmsh, vertices, faces, labels, size, fraction, optimize):
+def _remeshed(gmsh, vertices, faces, labels, size, fraction, optimize, local=()):
     """Pass 1, then pass 2: classify the pre-mesh, remesh the patches, mesh the volume."""
     with _session(gmsh):
+        # the pre-mesh only carries the geometry here: the same one with or without local
+        # sizes, so that they refine the seats and change nothing else
         _premesh(gmsh, vertices, faces, labels, fraction * size)
         points, triangles = _mesh_arrays(gmsh, 2)
         gmsh.model.add("flexarm-remesh")
+        if local:
+            gmsh.model.mesh.setSizeCallback(size_callback(local))
         surface = gmsh.model.addDiscreteEntity(2)
         gmsh.model.mesh.addNodes(2, surface, np.arange(1, len(points) + 1), points.ravel())
         gmsh.model.mesh.addElementsByType(surface, 2, [], (triangles + 1).ravel())
@@ -136,10 +146,10 @@ def _remeshed(gmsh, vertices, faces, labels, size, fraction, optimize):
         return _volume(gmsh, size, optimize)
 
 
-def _on_premesh(gmsh, vertices, faces, labels, size, fraction, optimize):
+def _on_premesh(gmsh, vertices, faces, labels, size, fraction, optimize, local=()):
     """The volume meshed on the pre-mesh surface itself (no reparametrisation)."""
     with _session(gmsh):
-        _premesh(gmsh, vertices, faces, labels, fraction * size)
+        _premesh(gmsh, vertices, faces, labels, fraction * size, fraction, local)
         return _volume(gmsh, size, optimize)
 
 
@@ -154,8 +164,13 @@ def _oriented(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndar
     return points, tets
 
 
-def _run(gmsh, surface, size: float, optimize: bool, name: str, report: Progress) -> TetMesh:
-    """The first pre-mesh fraction whose remesh works, else the volume on the pre-mesh."""
+def _run(gmsh, surface, size: float, optimize: bool, name: str, report: Progress,
+         local: tuple = ()) -> TetMesh:
+    """The first pre-mesh fraction whose remesh works, else the volume on the pre-mesh.
+
+    With ``local`` sizes a try that gives zero-volume elements counts as failed too: the
+    grading from a fine seat to the coarse edge can flatten one (the M-20iA's link_6 at
+    80 mm), and the next pre-mesh is as deterministic as the first."""
     vertices = np.asarray(surface.vertices, dtype=np.float64)
     faces = np.asarray(surface.faces, dtype=np.int64)
     labels = _facet_labels(surface)
@@ -165,7 +180,11 @@ def _run(gmsh, surface, size: float, optimize: bool, name: str, report: Progress
         how = "remesh" if attempt is _remeshed else "volume on the pre-mesh"
         report(f"{name}: gmsh try {i}/{len(tries)}: {how} (pre-mesh edge {fraction * size:.3g} m)")
         try:
-            points, tets = attempt(gmsh, vertices, faces, labels, size, fraction, optimize)
+            points, tets = attempt(gmsh, vertices, faces, labels, size, fraction, optimize,
+                                   local)
+            problem = _defects(TetMesh(*_oriented(points, tets)))[0] if local else None
+            if problem is not None:
+                raise _GmshFailed(f"{problem} with local sizes")
         except _GmshFailed as exc:
             logger.info("%s: gmsh try %d (%s) failed: %s", name, i, how, exc)
             failures.append(f"try {i}: {exc}")
@@ -198,6 +217,7 @@ def tetrahedralize_gmsh(
     cache: bool = True,
     name: str = "surface",
     progress: Progress | None = None,
+    local_sizes: tuple[LocalSize, ...] = (),
 ) -> TetMesh:
     """Tetrahedral mesh of the solid inside a closed surface, made by Gmsh (deterministic).
 
@@ -224,6 +244,9 @@ def tetrahedralize_gmsh(
         What to call the part in messages (e.g. the file name).
     progress : callable (str) -> None, optional
         Receives a few coarse progress messages.
+    local_sizes : tuple of LocalSize
+        Cylinders where the edge must be finer than ``size`` (:mod:`.local_size`; seats
+        that would otherwise hold too few nodes); part of the cache key when given.
 
     Returns
     -------
@@ -247,12 +270,13 @@ def tetrahedralize_gmsh(
     if len(surface.faces) == 0 or not surface.is_watertight:
         raise MeshError(f"{name}: the surface is not closed (gmsh needs a watertight surface)")
     gmsh = _import_gmsh()
+    local = tuple(local_sizes)
 
     def make(vertices, faces, report):
         logger.info("gmsh tetrahedralizing %s: %d faces, edge %.4g m", name, len(faces), size)
         report(f"{name}: gmsh tetrahedralizing (edge {size:.4g} m, optimize={bool(optimize)})")
         start = time.perf_counter()
-        mesh = _run(gmsh, surface, float(size), optimize, name, report)
+        mesh = _run(gmsh, surface, float(size), optimize, name, report, local)
         problem, n_slivers, min_angle = _defects(mesh)
         if problem is not None:
             raise MeshError(f"{name}: gmsh gave {problem} (try mesher='tetwild')")
@@ -263,4 +287,5 @@ def tetrahedralize_gmsh(
         return mesh
 
     return cached_tetrahedralization(surface, size, optimize, order, cache, name, progress, make,
-                                     mesher="gmsh", settings=gmsh_settings())
+                                     mesher="gmsh",
+                                     settings=gmsh_settings() + local_sizes_key(local))

@@ -21,6 +21,7 @@ from ..meshes.hollow import hollow_surface
 from ..meshes.tolerances import tol as tol_mesh
 from ..meshes.wall import bending_ratio, wall_for_mass
 from .description import Robot
+from .formats.urdf import published_names
 from .formats.urdf_meshes import write_derived
 
 __all__ = ["HollowedLink", "Hollowing", "hollow_links"]
@@ -63,7 +64,8 @@ class Hollowing:
 
 
 def hollow_links(robot: Robot, wall: float | str, mass_kg: float | None = None,
-                 out_dir: PathType | None = None) -> tuple[Robot, Hollowing]:
+                 out_dir: PathType | None = None,
+                 sources: dict | None = None) -> tuple[Robot, Hollowing]:
     """``robot`` with every meshed link's CAD hollowed to walls of ``wall`` [m].
 
     Parameters
@@ -76,6 +78,10 @@ def hollow_links(robot: Robot, wall: float | str, mass_kg: float | None = None,
         The robot's datasheet mass [kg] (needed for ``"auto"``).
     out_dir : path-like, optional
         Folder for the shell STLs (content-named; default: the package cache).
+    sources : dict, optional
+        Link name -> the files its (derived) mesh was made from, as the URDF writes them
+        (:attr:`~flexarm.robot.formats.urdf.UrdfImport.sources`): a refusal names those,
+        never flexarm's derived file.
 
     Returns
     -------
@@ -100,7 +106,8 @@ def hollow_links(robot: Robot, wall: float | str, mass_kg: float | None = None,
     meshed = [lk for lk in robot.links if lk.mesh is not None]
     if not meshed:
         raise ValueError("no link has a CAD mesh to hollow")
-    surfaces = [load_surface(lk.mesh, units=lk.units) for lk in meshed]
+    label = {lk.name: _label(lk, sources or {}) for lk in meshed}
+    surfaces = [_surface(lk, sources or {}) for lk in meshed]
     rho = np.array([lk.material.rho for lk in meshed])
     matched = None
     if wall == "auto":
@@ -108,7 +115,7 @@ def hollow_links(robot: Robot, wall: float | str, mass_kg: float | None = None,
             raise ValueError("a wall matched to the mass needs the robot's mass (--total-mass)")
         lumped = sum(m.mass for lk in robot.links for m in lk.lumped)
         wall = wall_for_mass(surfaces, rho, float(mass_kg), lumped,
-                             names=[f"links.{lk.name}" for lk in meshed])
+                             names=[label[lk.name] for lk in meshed])
         matched = float(mass_kg)
     wall = float(wall)
     if not np.isfinite(wall) or wall <= 0:
@@ -116,36 +123,53 @@ def hollow_links(robot: Robot, wall: float | str, mass_kg: float | None = None,
     folder = Path(out_dir) if out_dir is not None else None
     new_links, rows = dict(), []
     for lk, surface, density in zip(meshed, surfaces, rho, strict=True):
-        shell = hollow_surface(surface, wall, name=f"links.{lk.name}")
+        shell = hollow_surface(surface, wall, name=label[lk.name])
         rows.append(HollowedLink(lk.name, density * float(surface.volume),
                                  density * float(shell.volume), bending_ratio(surface, shell),
                                  bool(shell.is_solid)))
         if not shell.is_solid:
             path = write_derived(shell.mesh, folder if folder else _default_dir(), lk.name)
-            _check_written(path, shell.volume, lk, wall)
+            _check_written(path, shell.volume, label[lk.name], wall)
             new_links[lk.name] = replace(lk, mesh=path, units="m")
     log.info("links hollowed to %.1f mm walls", wall * 1e3)
     links = tuple(new_links.get(lk.name, lk) for lk in robot.links)
     return replace(robot, links=links), Hollowing(wall, matched, tuple(rows))
 
 
-def _check_written(path: Path, volume: float, link, wall: float) -> None:
-    """Read the shell back as ``flexarm build`` will and refuse, naming the link, a file
-    that does not come back closed with the volume it was written with."""
+def _label(link, sources: dict) -> str:
+    """``links.NAME (FILE)``: the link and the user's CAD file(s) of it."""
+    files = sources.get(link.name) or (Path(link.mesh).name,)
+    return f"links.{link.name} ({' + '.join(files)})"
+
+
+def _surface(link, sources: dict):
+    """The link's CAD surface; a refusal names the user's files, not a derived one."""
+    from ..fe.errors import MeshError
+
+    try:
+        return load_surface(link.mesh, units=link.units)
+    except MeshError as exc:
+        raise MeshError(published_names(str(exc), {link.name: link.mesh}, sources)) from None
+
+
+def _check_written(path: Path, volume: float, label: str, wall: float) -> None:
+    """Read the shell back as ``flexarm build`` will and refuse, naming the link and its
+    CAD file (``label``), a shell that does not come back closed with the volume it was
+    written with."""
     from ..fe.errors import MeshError
 
     try:
         back = load_surface(path)
     except MeshError as exc:
         path.unlink(missing_ok=True)  # nothing half-written is left for the next import
-        raise MeshError(f"links.{link.name}: its CAD ({link.mesh}) hollowed to "
-                        f"{wall * 1e3:.1f} mm walls does not read back closed ({exc}); "
-                        "import it without --wall, or with a thicker one") from None
+        why = str(exc).replace(str(path), "the shell")
+        raise MeshError(f"{label}: hollowed to {wall * 1e3:.1f} mm walls it does not read "
+                        f"back closed ({why}); import it without --wall, or with a thicker "
+                        "one") from None
     if abs(float(back.volume) / volume - 1) > tol_mesh.tet_volume_warn:
         path.unlink(missing_ok=True)
-        raise MeshError(f"links.{link.name}: its CAD ({link.mesh}) hollowed to "
-                        f"{wall * 1e3:.1f} mm walls reads back with {float(back.volume):.4g}"
-                        f" m^3 instead of {volume:.4g} m^3")
+        raise MeshError(f"{label}: hollowed to {wall * 1e3:.1f} mm walls it reads back with "
+                        f"{float(back.volume):.4g} m^3 instead of {volume:.4g} m^3")
 
 
 def _default_dir() -> Path:

@@ -33,6 +33,10 @@ class Tolerances:
     #: Bearing seats: tet-mesh surface nodes a face seat is grown to catch at the mesh size,
     #: as a multiple [-] of the rank-6 minimum (``min_region_nodes`` of the reduction layer).
     seat_mesh_nodes_factor: int = 4
+    #: Bearing seats: the finest local tet edge a seat is meshed with, as a share [-] of
+    #: the mesh size (:mod:`flexarm.robot.seat_mesh`; a seat smaller still keeps fewer
+    #: nodes, and the import report says so).
+    seat_local_edge_min: float = 0.125
     #: Bearing seats: CAD sample points [-] a seat must hold (a sample: far more than the
     #: rank-6 minimum of 3 nodes).
     seat_min_sample_points: int = 20

@@ -180,10 +180,10 @@ def import_urdf(path: PathType, meshes: str = "collision", mass_kg: float | None
     if seats:
         robot = with_seats(robot, seats)
     if regions:  # on the outer CAD: a shell's cavity would read as bores and faces
-        robot, missing = _seat_regions(robot)
+        robot, missing = _seat_regions(robot, imported.sources)
     hollowing = None
     if wall is not None:
-        robot, hollowing = hollow_links(robot, wall, mass_kg, derived_dir)
+        robot, hollowing = hollow_links(robot, wall, mass_kg, derived_dir, imported.sources)
     if mass_kg is not None and wall != "auto":
         robot = with_total_mass(robot, mass_kg)
     mass = total_mass(robot, "surface")
@@ -244,11 +244,12 @@ def _mesh_estimate(robot: Robot) -> str:
             f"process{'es' if jobs > 1 else ''}")
 
 
-def _seat_regions(robot: Robot) -> tuple[Robot, tuple]:
+def _seat_regions(robot: Robot, sources: dict) -> tuple[Robot, tuple]:
     """``robot`` with its bearing seats found on the link CAD, and the seats not found
     (each with one warning naming the link, the joint and the fix).  A link whose CAD is
-    not a closed surface (one warning naming its file) gets no seats: a seat needs the
-    solid's outside, and a flexible model needs a closed surface anyway."""
+    not a closed surface (one warning naming its file as the URDF writes it, ``sources``)
+    gets no seats: a seat needs the solid's outside, and a flexible model needs a closed
+    surface anyway."""
     from ..fe.errors import MeshError
     from ..meshes import load_surface
 
@@ -259,8 +260,9 @@ def _seat_regions(robot: Robot) -> tuple[Robot, tuple]:
         try:
             load_surface(lk.mesh, units=lk.units)
         except MeshError as exc:
-            unreadable[lk.name] = str(exc)
-            warnings.warn(f"links.{lk.name}: no bearing seats looked for on {exc}", stacklevel=3)
+            unreadable[lk.name] = why = urdf.published_names(str(exc), {lk.name: lk.mesh},
+                                                             sources)
+            warnings.warn(f"links.{lk.name}: no bearing seats looked for on {why}", stacklevel=3)
     searched = dataclasses.replace(robot, links=tuple(
         dataclasses.replace(lk, mesh=None) if lk.name in unreadable else lk
         for lk in robot.links))

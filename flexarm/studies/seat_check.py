@@ -17,7 +17,8 @@ from dataclasses import dataclass
 from ..assembly.build import link_regions
 from ..reduction.tolerances import tol as red_tol
 from ..robot.description import Robot
-from ..robot.seat_geometry import NODE_AREA, coupling_rank
+from ..robot.seat_geometry import coupling_rank
+from ..robot.seat_mesh import seat_mesh_nodes
 from ..robot.seat_pairs import PAIR_GAP, SeatPair, seat_pairs
 from ..robot.seat_review import is_review
 from ..robot.seat_sample import link_sample
@@ -74,8 +75,9 @@ def review_regions(robot: Robot) -> tuple[str, ...]:
 @dataclass(frozen=True)
 class PairCheck:
     """One joint's two seats on the CAD: their :class:`~flexarm.robot.seat_pairs.SeatPair`
-    (metres) and about how many FE nodes each would hold on a tet mesh of edge
-    ``mesh_size`` [m] (the seat's surface area over the area per node)."""
+    (metres) and about how many FE nodes each will hold on the build's tet mesh of edge
+    ``mesh_size`` [m], refined over a seat that needs it
+    (:func:`~flexarm.robot.seat_mesh.seat_mesh_nodes`)."""
 
     pair: SeatPair
     parent_nodes: int
@@ -113,12 +115,14 @@ def pair_checks(robot: Robot, mesh_size: float | None = None) -> tuple[PairCheck
     ('joint_2', '', 44, 68)
     """
     h = robot.options.mesh_size if mesh_size is None else float(mesh_size)
+    estimates = {}
     out = []
     for p in seat_pairs(robot):
         nodes = []
-        for link, n in ((p.parent, p.parent_points), (p.child, p.child_points)):
-            area = n * link_sample(robot.links[robot.link_index[link]]).weight
-            nodes.append(int(math.floor(area / (NODE_AREA * h**2))))
+        for link in (p.parent, p.child):
+            if link not in estimates:
+                estimates[link] = seat_mesh_nodes(robot.links[robot.link_index[link]], h)
+            nodes.append(int(math.floor(estimates[link].get(p.joint, 0.0) + 1e-9)))
         out.append(PairCheck(p, nodes[0], nodes[1], h))
     return tuple(out)
 

@@ -14,12 +14,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..robot.description import Robot
+from ..robot.seat_mesh import MIN_SEAT_NODES
 from ..robot.seat_pairs import SeatPair, seat_pairs
 
 __all__ = ["MIN_PAIR_NODES", "PairRow", "pair_rows", "pairs_text"]
 
-#: FE nodes each seat of a pair must hold on the tet mesh.
-MIN_PAIR_NODES = 6
+#: FE nodes each seat of a pair must hold on the tet mesh (the build refines the mesh
+#: over a seat estimated to hold fewer: :mod:`flexarm.robot.seat_mesh`).
+MIN_PAIR_NODES = MIN_SEAT_NODES
 
 
 @dataclass(frozen=True)

@@ -3,6 +3,8 @@ links too thin for the wall kept solid, regions kept."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import pytest
 import trimesh
 
@@ -59,3 +61,50 @@ def test_auto_needs_the_mass_and_the_wall_must_be_positive(tmp_path):
         hollow_links(robot, "auto")
     with pytest.raises(ValueError, match="positive length"):
         hollow_links(robot, -0.01)
+
+
+def test_a_refused_derived_cad_names_the_users_file_as_the_urdf_writes_it(tmp_path):
+    """An open mesh at flexarm's derived path (a merged link): the refusal names the file
+    the URDF gave, never the derived one."""
+    from flexarm.fe.errors import MeshError
+
+    robot = _boxes(tmp_path, {"base": (0.4, 0.3, 0.2), "arm": (0.6, 0.1, 0.1)})
+    derived = tmp_path / "arm-0123abcd.stl"
+    box = trimesh.creation.box((0.6, 0.1, 0.1))
+    trimesh.Trimesh(box.vertices, box.faces[:-2]).export(derived)  # one facet open
+    robot = dataclasses.replace(robot, links=(
+        robot.links[0], dataclasses.replace(robot.links[1], mesh=derived)))
+    user = "package://maker_support/meshes/collision/forearm.stl"
+    with pytest.raises(MeshError) as info:
+        hollow_links(robot, 0.01, out_dir=tmp_path / "shells",
+                     sources={"arm": (user,)})
+    message = str(info.value)
+    assert message.startswith(f"{user}: ") and str(derived) not in message
+    assert derived.name not in message
+
+
+def test_a_shell_that_does_not_read_back_is_refused_naming_the_link_and_its_file(
+        tmp_path, monkeypatch):
+    """The read-back check of a written shell: one message naming the link and the user's
+    file, and nothing left in the folder."""
+    import flexarm.robot.hollowing as hollowing
+    from flexarm.fe.errors import MeshError
+
+    robot = _boxes(tmp_path, {"base": (0.4, 0.3, 0.2), "arm": (0.6, 0.1, 0.1)})
+    written = []
+
+    def broken(mesh, folder, name):  # the shell as a disk fault would leave it: open
+        folder.mkdir(parents=True, exist_ok=True)
+        path = folder / f"{name}-shell.stl"
+        trimesh.Trimesh(mesh.vertices, mesh.faces[:-2]).export(path)
+        written.append(path)
+        return path
+
+    monkeypatch.setattr(hollowing, "write_derived", broken)
+    with pytest.raises(MeshError) as info:
+        hollow_links(robot, 0.01, out_dir=tmp_path / "shells",
+                     sources={"base": ("../meshes/base.stl",)})
+    message = str(info.value)
+    assert message.startswith("links.base (../meshes/base.stl): hollowed to 10.0 mm walls "
+                              "it does not read back closed (")
+    assert "-shell.stl" not in message and not written[0].exists()

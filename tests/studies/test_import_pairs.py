@@ -72,3 +72,31 @@ def test_a_pair_50_mm_apart_is_a_warning_naming_the_joint_and_the_gap(urdf, tmp_
     assert "seat pairs: 1 of 2 within 5 mm" in out
     (pair,) = [p for p in seat_pairs(toml.read(out_toml)) if p.joint == "j1"]
     assert pair.gap == pytest.approx(0.05, abs=1e-3)
+
+
+def test_a_coarse_build_refines_the_seats_to_the_nodes_the_report_expects(urdf, tmp_path):
+    """At 80 mm every seat of the drums holds 1 to 3 nodes' worth of surface; the build
+    refines the mesh over each to the estimate (12), which it meets."""
+    from flexarm.robot import load_robot
+    from flexarm.robot.seat_geometry import NODE_AREA
+    from flexarm.robot.seat_mesh import SEAT_NODES, seat_areas
+    from flexarm.studies.seat_check import pair_checks
+
+    from ..published_robots import pair_table
+
+    h = 0.08
+    out_toml = tmp_path / "drums.toml"
+    assert run_cli(["import-urdf", str(urdf), "-o", str(out_toml)])[0] == 0
+    robot = load_robot(out_toml)
+    for lk in robot.links:  # without local sizes: fewer than the pair check's 6 nodes
+        assert all(a / (NODE_AREA * h**2) < 6 for a in seat_areas(lk).values()), lk.name
+    code, out, err = run_cli(["build", "--robot", str(out_toml), "--mesh-size", str(h)])
+    assert code == 0, err
+    rows = pair_table(out)
+    for c in pair_checks(robot, h):
+        row = rows[c.pair.joint]
+        real = (int(row[5]), int(row[6]))
+        assert (c.parent_nodes, c.child_nodes) == (SEAT_NODES, SEAT_NODES)
+        # the estimate is a flat face's count: the build meets it, within a third
+        assert all(SEAT_NODES <= n <= 1.34 * SEAT_NODES for n in real), (c.pair.joint, real)
+        assert row[-1] == "ok"

@@ -38,7 +38,7 @@ import logging
 import math
 import warnings
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -50,7 +50,8 @@ from ..joints import JointModel
 from .urdf_meshes import Piece, merged_mesh, published, write_derived
 from .urdf_tree import UrdfTree, parse_tree, xyz_rpy
 
-__all__ = ["read", "load", "UrdfImport", "DEFAULT_TORSION", "TOOL_FRAMES", "default_derived_dir"]
+__all__ = ["read", "load", "UrdfImport", "DEFAULT_TORSION", "TOOL_FRAMES", "default_derived_dir",
+           "published_names"]
 
 log = logging.getLogger(__name__)
 
@@ -79,7 +80,10 @@ class UrdfImport:
     included); ``derived`` maps a link to the derived STL written for it (links absent
     use their published mesh or have none); ``inertial_mass`` [kg] is the sum of every
     ``<inertial>`` mass in the file (None: it gives none) and ``effort`` [N m] the torque
-    limit of each moving joint (None unless the file gives every joint one).
+    limit of each moving joint (None unless the file gives every joint one).  ``sources``
+    maps a link with a derived mesh to what it was made from, as the URDF writes it (mesh
+    filenames, ``<box>``/``<cylinder>``/``<sphere>``): the names a message about the link's
+    CAD gives the user.
     """
 
     robot: Robot
@@ -88,6 +92,7 @@ class UrdfImport:
     derived: dict
     inertial_mass: float | None = None
     effort: tuple[float, ...] | None = None
+    sources: dict = field(default_factory=dict)
 
     @property
     def placeholder_joints(self) -> tuple[str, ...]:
@@ -201,12 +206,13 @@ def _import(path: Path, tree: UrdfTree, meshes: str, material: str, folder: Path
     # members in walk order: the moving link first, then its fixed children as walked
     walk = [tree.root] + [j.child for j in tree.joints]
     members = {b: sorted(m, key=walk.index) for b, m in members.items()}
-    links, derived = [], {}
+    links, derived, sources = [], {}, {}
     for b in names:
         link, mesh_file = _link(path, tree, b, members[b], T, meshes, material, folder, notes)
         links.append(link)
         if mesh_file is not None:
             derived[b] = mesh_file
+            sources[b] = _sources(tree, members[b], meshes)
     joints = []
     for k, j in enumerate(moving):
         xyz, rpy = xyz_rpy(T[j.parent] @ j.origin)
@@ -234,7 +240,32 @@ def _import(path: Path, tree: UrdfTree, meshes: str, material: str, folder: Path
     effort = tuple(j.effort for j in moving)
     return UrdfImport(robot, tool_frame, merged, derived,
                       float(sum(inertials)) if inertials else None,
-                      effort if all(e is not None for e in effort) else None)
+                      effort if all(e is not None for e in effort) else None, sources)
+
+
+def published_names(text: str, meshes: dict, sources: dict) -> str:
+    """``text`` with the derived mesh path of each link in ``meshes`` (link name -> path)
+    replaced by what the URDF made it from (``sources``: link name -> names, as
+    :attr:`UrdfImport.sources`), so that a message names the user's files.
+
+    Examples
+    --------
+    >>> published_names("/cache/forearm_link-1f.stl: not a closed surface",
+    ...                 {"forearm_link": "/cache/forearm_link-1f.stl"},
+    ...                 {"forearm_link": ("package://ur/forearm.stl",)})
+    'package://ur/forearm.stl: not a closed surface'
+    """
+    for link, path in meshes.items():
+        if path is not None and sources.get(link):
+            text = text.replace(str(path), " + ".join(sources[link]))
+    return text
+
+
+def _sources(tree: UrdfTree, members: list[str], meshes: str) -> tuple[str, ...]:
+    """What a derived link mesh is made of, as the URDF writes it (filenames, shapes)."""
+    names = [g.filename if g.filename else f"<{g.shape}>" for name in members
+             for g in _geometry(tree, name, meshes, [])]
+    return tuple(dict.fromkeys(names))
 
 
 def _geometry(tree: UrdfTree, name: str, meshes: str, notes: list[str]):
