@@ -222,9 +222,12 @@ def lsfd_residues(freq_hz: ArrayLike, H: ArrayLike, poles: ArrayLike, f_lo: floa
     return (C[:k] + 1j * C[k:2 * k]).T, synth
 
 
-def _lsfd(freq: np.ndarray, H: np.ndarray, W: np.ndarray, poles: np.ndarray):
+def _lsfd(freq: np.ndarray, H: np.ndarray, W: np.ndarray, poles: np.ndarray,
+          frf_scale: np.ndarray | None = None):
     """(basis (nf, 2k+4), coefficients (2k+4, n), weighted residual vector) of the LSFD
-    fit of ``H`` (n, nf) on the lines ``freq`` with line weights ``W``."""
+    fit of ``H`` (n, nf) on the lines ``freq`` with line weights ``W``; each FRF's
+    residual times ``frf_scale`` (n,) (a constant factor per FRF leaves its own fit
+    unchanged, so the FRFs that share their line weights still share one solve)."""
     P = _basis(freq, poles)
     Pr = np.vstack([P.real, P.imag])  # (2nf, 2k+4)
     norm = np.linalg.norm(Pr, axis=0)
@@ -237,7 +240,8 @@ def _lsfd(freq: np.ndarray, H: np.ndarray, W: np.ndarray, poles: np.ndarray):
         C = np.column_stack([np.linalg.lstsq(Pr * (sw[:, [o]] / norm), Y[:, o] * sw[:, o],
                                              rcond=None)[0] for o in range(Y.shape[1])])
     C = C / norm[:, None]  # (2k+4, n)
-    return P, C, ((Pr @ C - Y) * sw).ravel()
+    res = (Pr @ C - Y) * sw
+    return P, C, (res if frf_scale is None else res * frf_scale).ravel()
 
 
 def refine_poles(freq_hz: ArrayLike, H: ArrayLike, poles: ArrayLike, f_lo: float,
@@ -290,7 +294,7 @@ def refine_poles(freq_hz: ArrayLike, H: ArrayLike, poles: ArrayLike, f_lo: float
     H = np.asarray(H, complex)
     W_all = np.ones(H.shape) if weights is None else np.asarray(weights, float)
     _, Hb, Wb = _band_lines(freq_all, H, W_all, f_lo, f_hi)
-    W_all = W_all / _frf_rms(Hb, Wb)[:, None] ** 2
+    frf_scale = 1.0 / _frf_rms(Hb, Wb)
     poles = np.array(poles, complex)
     df = float(np.median(np.diff(freq_all))) if len(freq_all) > 1 else 1.0
     A = lsfd_residues(freq_all, H, poles, f_lo, f_hi, weights)[0]  # (n, k)
@@ -315,7 +319,7 @@ def refine_poles(freq_hz: ArrayLike, H: ArrayLike, poles: ArrayLike, f_lo: float
 
         def residual(x, on=on, Hr=Hr, near=near, scale=scale):
             return _lsfd(freq_all[on], Hr, W_all[:, on],
-                         np.r_[scale * (x[0] + 1j * x[1]), near])[2]
+                         np.r_[scale * (x[0] + 1j * x[1]), near], frf_scale)[2]
 
         x0 = np.array([poles[r].real, poles[r].imag]) / scale
         start = residual(x0)
