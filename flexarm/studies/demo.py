@@ -19,6 +19,7 @@ import time
 from pathlib import Path
 
 from ..fe.files import atomic_folder
+from .demo_cache import is_warm, mark_warm
 from .demo_measurements import measurement_step
 from .demo_models import emodel_step, flexible_step
 from .demo_part import part_step
@@ -54,8 +55,10 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
         here, and the off-screen render probe starts at once in the background.  The
         second process is forked where that is safe (Linux, no other thread running,
         BLAS threads on pthreads), after the modules both need are loaded here once;
-        else spawned.  ``1`` runs everything in order in this process.  The index is
-        the same either way.
+        else spawned.  ``1`` runs everything in order in this process, and so does a
+        warm run (an earlier run of this package with the same options completed, so
+        every step is mostly cache reads and starting a second process costs more than
+        it saves).  The index is the same either way.
 
     Returns
     -------
@@ -68,6 +71,8 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     if jobs > 1 and not _can_spawn():
         progress("demo: no process semaphores here (/dev/shm?), running the steps in order")
         jobs = 1
+    if jobs > 1 and is_warm(size, part):
+        jobs = 1
     run = _run_in_order if jobs <= 1 else _run_parallel
     # built aside and moved in when complete, index.md last: an interrupted run leaves
     # the folder as it was
@@ -75,6 +80,7 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
         steps = run(tmp, progress, size, part)
         result = DemoResult.of(out, steps, time.perf_counter() - t0)
         (tmp / "index.md").write_text(result.index_text())
+    mark_warm(size, part)
     return result
 
 

@@ -19,7 +19,7 @@ from typing import TypeVar
 
 from ..fe.cache import PICKLE, cache_key, cached, lookup, package_digest
 
-__all__ = ["demo_result"]
+__all__ = ["demo_result", "is_warm", "mark_warm"]
 
 log = logging.getLogger(__name__)
 
@@ -60,3 +60,26 @@ def demo_result(name: str, compute: Callable[[], T], *inputs) -> T:
     # from it a new key on the first warm run.
     stored = lookup("demo", key, PICKLE)
     return entry.value if stored is None else stored
+
+
+def _complete_key(*inputs) -> str:
+    return cache_key("demo-complete", package_digest(), *inputs)
+
+
+def mark_warm(*inputs) -> None:
+    """Note that a demo run with ``inputs`` completed: its results are in the cache."""
+    cached("demo", _complete_key(*inputs), lambda: True, PICKLE)
+
+
+def is_warm(*inputs) -> bool:
+    """Whether a run of this package with ``inputs`` completed since the cache was last
+    cleared (:func:`mark_warm`): a warm run's steps are mostly cache reads.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> token = tempfile.mkdtemp()  # inputs no earlier run has used
+    >>> is_warm(token), mark_warm(token), is_warm(token)
+    (False, None, True)
+    """
+    return lookup("demo", _complete_key(*inputs), PICKLE) is not None

@@ -103,6 +103,8 @@ def test_two_process_run_forks_the_worker_and_keeps_the_index_order(tmp_path, mo
     measurement steps in another process and sends its progress lines back; the index
     is in step order, as in one process."""
     monkeypatch.setattr(demo, "_load_shared", lambda: None)
+    monkeypatch.setattr(demo, "is_warm", lambda *inputs: False)
+    monkeypatch.setattr(demo, "mark_warm", lambda *inputs: None)
     if not demo._ready_to_fork():
         pytest.skip("the worker is spawned here: it would run the real steps")
 
@@ -123,3 +125,25 @@ def test_two_process_run_forks_the_worker_and_keeps_the_index_order(tmp_path, mo
     assert figures["emodel_pid"] == figures["measurement_pid"] != os.getpid()
     assert sorted(said) == ["emodel: running", "flexible: running", "measurement: running"]
     assert (tmp_path / "out" / "index.md").read_text() == result.index_text()
+
+
+def test_a_warm_run_stays_in_one_process(tmp_path, monkeypatch):
+    """After a complete run with the same options every step is mostly cache reads:
+    jobs=2 then runs them here, in index order (and notes the run complete again)."""
+    monkeypatch.setattr(demo, "is_warm", lambda size, part: (size, part) == (0.03, False))
+    marked = []
+    monkeypatch.setattr(demo, "mark_warm", lambda *inputs: marked.append(inputs))
+
+    def step(name):
+        def run(out, progress):
+            return StepResult([f"## {name}"], {f"{name}_pid": float(os.getpid())})
+        return run
+
+    monkeypatch.setitem(demo._WORKER_STEPS, "emodel", step("emodel"))
+    monkeypatch.setattr(demo, "emodel_step", step("emodel"))
+    monkeypatch.setattr(demo, "measurement_step", step("measurement"))
+    monkeypatch.setattr(demo, "flexible_step", step("flexible"))
+    result = demo.run_demo(tmp_path / "out", jobs=2)
+    assert result.lines == ("## emodel", "## flexible", "## measurement")
+    assert set(dict(result.figures).values()) == {float(os.getpid())}
+    assert marked == [(0.03, False)]
