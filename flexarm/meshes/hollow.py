@@ -56,8 +56,11 @@ class HollowShell:
     cavity : trimesh.Trimesh or None
         Outward-wound surface of the removed inside [m] (several bodies if the inside
         splits up); None if ``is_solid``.
-    method : {"convex", "erosion", "solid"}
+    method : {"convex", "erosion", "level set", "solid"}
         How the cavity was built (see :mod:`flexarm.meshes.inward_offset`).
+    solid : trimesh.Trimesh or None
+        The closed surface that was hollowed [m]: the input, or the surface of the
+        union of its bodies where they overlap or touch.
     """
 
     mesh: trimesh.Trimesh
@@ -65,6 +68,7 @@ class HollowShell:
     is_solid: bool
     cavity: trimesh.Trimesh | None
     method: str
+    solid: trimesh.Trimesh | None = None
 
     @property
     def volume(self) -> float:
@@ -94,14 +98,14 @@ def _shell(solid: _Solid, thickness: float, segments: int) -> HollowShell:
     if cavity is None:
         logger.info("%s: wall %.4g m leaves nothing inside (inscribed radius <= %.4g m): "
                     "kept solid", solid.name, thickness, solid.inradius)
-        return HollowShell(solid.surface, thickness, True, None, "solid")
+        return HollowShell(solid.surface, thickness, True, None, "solid", solid.surface)
     mesh = _shell_mesh(solid.surface, cavity)
     if not (mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0):
         raise MeshError(f"{solid.name}: the hollowed ({method}) surface is not a closed "
                         "shell; mesh it solid or scale the density instead")
     logger.debug("%s: wall %.4g m (%s): %.4g of %.4g m^3 left", solid.name, thickness,
                  method, mesh.volume, solid.volume)
-    return HollowShell(mesh, thickness, False, cavity, method)
+    return HollowShell(mesh, thickness, False, cavity, method, solid.surface)
 
 
 def hollow_surface(

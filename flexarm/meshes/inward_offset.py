@@ -11,7 +11,16 @@ in one of two ways:
 ``"erosion"``
     Any other closed surface: the morphological erosion ``S - (dS (+) B_t)``
     (:mod:`flexarm.meshes.erosion`: exact walls on every face and at convex edges, at
-    most 2.2 % thinner at concave ones; cached per surface and wall).
+    most 2.2 % thinner at concave ones; cached per surface and wall).  CAD of several
+    bodies that overlap or touch gets instead the points farther than ``t`` from the
+    surface of their union, a level set of the sampled distance
+    (:mod:`flexarm.meshes.level_set_cavity`: a manifold strictly inside it by
+    construction, its convex edges rounded at the grid's scale; cached the same way).
+
+CAD of several closed bodies that overlap, or of one that touches itself, is first
+replaced by the surface of the solid it encloses
+(:func:`~flexarm.meshes.self_intersections.united_surface`): hollowing each body as it
+is would count the overlaps twice and run cavities through the other bodies' skins.
 
 Imports only :mod:`flexarm.fe` and :mod:`flexarm.meshes`.
 """
@@ -28,7 +37,9 @@ from scipy.spatial import ConvexHull, HalfspaceIntersection, QhullError
 
 from ..fe.errors import MeshError
 from .erosion import BALL_SEGMENTS, capsule_edges, eroded_cavity
+from .level_set_cavity import level_set_cavity
 from .repair import check_surface, winding_number
+from .self_intersections import united_surface
 from .tolerances import tol
 
 __all__ = ["BALL_SEGMENTS"]  # re-exported from .erosion
@@ -191,12 +202,29 @@ def _stack(meshes: Sequence[trimesh.Trimesh]) -> trimesh.Trimesh:
     return trimesh.Trimesh(vertices, faces, process=False)
 
 
+def _one_solid(surface: trimesh.Trimesh, name: str) -> tuple[trimesh.Trimesh, bool]:
+    """``surface`` as one solid, and whether it is clean enough to erode: several bodies
+    that overlap are replaced by the surface of their union; one body whose sheets touch
+    is kept (the mesher unites it) unless that union cannot be formed."""
+    united = united_surface(surface, name)
+    if united is None:
+        logger.info("%s: its sheets touch and cannot be united: hollowed as they are", name)
+        return surface, False
+    if surface.body_count == 1:
+        return surface, True
+    if united is not surface:
+        logger.info("%s: %d bodies united (%.4g of %.4g m^3)", name, surface.body_count,
+                    united.volume, surface.volume)
+    return united, False
+
+
 class _Solid:
     """One closed surface, prepared once to be hollowed at any number of thicknesses."""
 
     def __init__(self, surface: trimesh.Trimesh, name: str = "surface"):
         check_surface(surface, name)
-        self.surface = surface
+        self.surface, self.clean = _one_solid(surface, name)
+        surface = self.surface
         self.name = name
         self.vertices = np.array(surface.vertices, dtype=np.float64)
         self.faces = np.array(surface.faces, dtype=np.int64)
@@ -215,9 +243,9 @@ class _Solid:
         )
         self._bound = None  # per-face depth bounds, computed when first needed
         self._exact = {}  # face -> exact depth [m], from a linear programme each
-        self._capsules = None  # edges that get a swept ball (erosion)
         self._inside = None  # whether the hull's inscribed-ball centre is inside
-        self._eroded = {}  # (thickness, segments, clean) -> eroded cavity bodies
+        self._capsules = None  # edges that get a swept ball (erosion)
+        self._eroded = {}  # (thickness, segments, clean) -> cavity bodies
         logger.debug(
             "%s: %d faces, convex=%s (vertex depth %.3g m, hull volume +%.3g %%), "
             "inradius %.4g m", name, len(self.faces), self.is_convex, self.depth,
@@ -292,12 +320,22 @@ class _Solid:
 
     def _eroded_cavity(self, thickness: float, segments: int,
                        clean: bool = True) -> list[trimesh.Trimesh]:
-        """Bodies [m] of the points at least ``thickness`` inside (empty list: none);
-        ``clean``: fit to be written (:func:`~flexarm.meshes.erosion.eroded_cavity`)."""
+        """Bodies [m] of the points at least ``thickness`` inside (empty list: none).
+
+        Clean CAD is eroded (:func:`~flexarm.meshes.erosion.eroded_cavity`: exact walls
+        on faces and convex edges; ``clean``: fit to be written).  CAD whose bodies
+        overlap or touch gets the level set of its distance
+        (:func:`~flexarm.meshes.level_set_cavity.level_set_cavity`), a manifold strictly
+        inside it where the erosion's prisms and capsules cross the other bodies' skins.
+        """
         key = (float(thickness), int(segments), clean)
         if key not in self._eroded:
-            self._eroded[key] = eroded_cavity(self.surface, thickness, segments, self.name,
-                                              self._capsule_edges(), clean)
+            if self.clean:
+                found = eroded_cavity(self.surface, thickness, segments, self.name,
+                                      self._capsule_edges(), clean)
+            else:
+                found = level_set_cavity(self.surface, thickness, self.name)
+            self._eroded[key] = found
         return self._eroded[key]
 
     def eroded_area(self, thickness: float, segments: int = BALL_SEGMENTS) -> float:
@@ -328,7 +366,8 @@ class _Solid:
     def cavity(self, thickness: float,
                segments: int = BALL_SEGMENTS) -> tuple[trimesh.Trimesh | None, str]:
         """Outward-wound cavity surface [m] at this wall thickness and how it was built:
-        ``"convex"``, ``"erosion"`` (several bodies if the inside splits up), or None and
+        ``"convex"``, ``"erosion"`` (several bodies if the inside splits up), ``"level
+        set"`` (CAD whose bodies overlap or touch), or None and
         ``"solid"`` when nothing is left inside."""
         cavity, method = None, "solid"
         if not self._solid_at(thickness):
@@ -339,5 +378,6 @@ class _Solid:
             if method == "solid":
                 bodies = self._eroded_cavity(thickness, segments)
                 if bodies:
-                    cavity, method = _stack(bodies), "erosion"
+                    cavity = _stack(bodies)
+                    method = "erosion" if self.clean else "level set"
         return cavity, method

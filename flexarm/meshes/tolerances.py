@@ -60,6 +60,9 @@ class Tolerances:
     #: A cavity face whose height is below this times the part size [-] is flat: flipped
     #: with its neighbour so no reader's repair drops it.
     hollow_flat_face: float = 1e-7
+    #: A level-set cavity is simplified to this times the wall [-]: its flat stretches
+    #: lose the grid's triangles, its curved ones keep the wall to 1 %.
+    level_set_simplify: float = 1e-2
 
     #: Features of a united solid smaller than this times its size [-] are simplified
     #: away (the nanometre gaps of pieces read from float32 files).

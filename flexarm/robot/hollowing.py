@@ -124,8 +124,10 @@ def hollow_links(robot: Robot, wall: float | str, mass_kg: float | None = None,
     new_links, rows = dict(), []
     for lk, surface, density in zip(meshed, surfaces, rho, strict=True):
         shell = hollow_surface(surface, wall, name=label[lk.name])
-        rows.append(HollowedLink(lk.name, density * float(surface.volume),
-                                 density * float(shell.volume), bending_ratio(surface, shell),
+        # overlapping CAD bodies count once: the solid that was hollowed
+        rows.append(HollowedLink(lk.name, density * float(shell.solid.volume),
+                                 density * float(shell.volume),
+                                 bending_ratio(shell.solid, shell),
                                  bool(shell.is_solid)))
         if not shell.is_solid:
             path = write_derived(shell.mesh, folder if folder else _default_dir(), lk.name)
