@@ -78,3 +78,12 @@ def primitive_arm_robot(folder, mesher: str = "gmsh"):
 def seat_centre(robot, link: str, region: str) -> np.ndarray:
     """The centre [m] of a region of ``robot`` (link frame)."""
     return np.asarray(robot.links[robot.link_index[link]].regions[region].center)
+
+
+def urdf_cylinder(r: float, length: float, xyz="0 0 0", rpy: str = "0 0 0") -> str:
+    """A URDF ``<collision>`` cylinder of radius ``r`` and ``length`` [m] at origin
+    ``xyz`` (a string "x y z", or a number: z only) and ``rpy`` [rad]."""
+    if not isinstance(xyz, str):
+        xyz = f"0 0 {xyz}"
+    return (f'<collision><origin xyz="{xyz}" rpy="{rpy}"/><geometry><cylinder radius="{r}" '
+            f'length="{length}"/></geometry></collision>')

@@ -11,13 +11,9 @@ from flexarm.robot.formats import toml
 from flexarm.robot.seat_review import is_review
 
 from ..cli_run import run_cli
+from ..primitive_arm import urdf_cylinder as _cyl
 
 pytestmark = pytest.mark.filterwarnings("ignore:.*placeholder stiffness")
-
-
-def _cyl(r, length, z):
-    return (f'<collision><origin xyz="0 0 {z}"/><geometry><cylinder radius="{r}" '
-            f'length="{length}"/></geometry></collision>')
 
 
 @pytest.fixture(scope="module")

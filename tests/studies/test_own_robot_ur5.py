@@ -23,6 +23,7 @@ from flexarm.robot import load_robot
 from flexarm.robot.kinematics import tcp_frame
 
 from ..cli_run import run_cli
+from ..primitive_arm import urdf_cylinder as _cyl
 
 pytestmark = pytest.mark.filterwarnings("ignore:.*placeholder stiffness")
 
@@ -43,11 +44,6 @@ JOINTS = {
 MASSES = {"base_link": 4.0, "shoulder_link": 3.7, "upper_arm_link": 8.393,
           "forearm_link": 2.275, "wrist_1_link": 1.219, "wrist_2_link": 1.219,
           "wrist_3_link": 0.1879}
-
-
-def _cyl(r, length, xyz, rpy="0 0 0"):
-    return (f'<collision><origin xyz="{xyz}" rpy="{rpy}"/><geometry>'
-            f'<cylinder radius="{r}" length="{length}"/></geometry></collision>')
 
 
 def _box(size, xyz):
