@@ -163,12 +163,13 @@ def _plot_by_pose(path, cmp, res_um: np.ndarray) -> Path:
     of_row = pose_of[pb.series_id]
     boxes = [np.abs(res_um[(of_row == k) & ~pb.is_ref]).ravel() for k in order]
     return _draw_by_pose(path, boxes, [names[k] for k in order],
-                         len(res_um) > tol.plot_max_points, f"{cmp.model}| at {cmp.poses}")
+                         len(res_um) > tol.plot_max_points,
+                         f"|measured - {cmp.model}| at {cmp.poses}")
 
 
 @picture_from_inputs
 def _draw_by_pose(path, boxes: list[np.ndarray], labels: list[str], many: bool,
-                  what: str) -> Path:
+                  title: str) -> Path:
     """:func:`_plot_by_pose` from the |residual| [µm] of each pose (keyed by them in the
     picture cache)."""
     fig, ax = pyplot().subplots(figsize=(5, 3))
@@ -176,6 +177,6 @@ def _draw_by_pose(path, boxes: list[np.ndarray], labels: list[str], many: bool,
     ax.set_xticks(np.arange(1, len(labels) + 1), labels)
     ax.set_ylabel("|residual| [µm]")
     ax.set_xlabel("pose")
-    ax.set_title(f"|measured - {what}"
+    ax.set_title(title
                  + ("\n(whiskers 1.5 IQR, outliers not drawn)" if many else ""), fontsize=9)
     return save_figure(fig, path, dpi=90)
