@@ -43,7 +43,8 @@ SUBLAYERS = {
                                            "path_ik": 1, "loaded": 1, "fixed_point": 2,
                                            "limits": 2, "runs": 2},
     "flexarm.studies.compensation.program": {"rapid_out": 0, "program_path": 0,
-                                             "program_out": 1, "path_in": 1, "densify": 1},
+                                             "program_out": 1, "krl_in": 1, "densify": 1,
+                                             "path_in": 2},
     "flexarm.studies.compensation.lab": {"measured": 0, "lab_run": 0, "history": 1},
 }
 #: The most lines a module of the package may have.

@@ -100,7 +100,7 @@ def _add_history(p: argparse.ArgumentParser) -> None:
                         "one per step of the loop, in order (and per procedure)")
     p.add_argument("--program", required=True,
                    help="the original program (what the part needs), not a compensated one: "
-                        "a RAPID module or a CSV of poses")
+                        "a RAPID module, a KRL .src or a CSV of poses")
     p.add_argument("--label", action="append", default=None,
                    help="step label of each path, in order (repeatable; default: the file "
                         "names); paths of several procedures with one label form one step")

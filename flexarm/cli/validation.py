@@ -61,9 +61,10 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
                    default=None, help="band of the FRFs of a --modal universal "
                    "file [Hz], LO:HI (default: 0.25 Hz to 1.2x the highest mode kept), "
                    "e.g. 0.25:300 to reach the wrist modes")
-    p.add_argument("--program", default=None, help="run this program (a RAPID module, or a "
-                   "CSV of poses as compensate reads it) under --force instead of static "
-                   "series, and write the measured tool path (path CSV)")
+    p.add_argument("--program", default=None, help="run this program (a RAPID module, a KUKA "
+                   "KRL .src with its .dat, or a CSV of poses as compensate reads it) under "
+                   "--force instead of static series, and write the measured tool path (path "
+                   "CSV)")
     p.add_argument("--reference", default=None, help="with --program: the program the path is "
                    "measured against, e.g. the original of a compensated program (default: "
                    "the program)")
@@ -140,8 +141,8 @@ def _add_compare(p: argparse.ArgumentParser) -> None:
     p.add_argument("--freq-noise", type=_PERCENT, default=0.5, help="frequency noise [%%] (modal)")
     p.add_argument("-o", "--output", default=None, help="report folder (CSV, PNG)")
     p.add_argument("--program", default=None, help="a path CSV against this program's "
-                   "programmed path (the original program: a RAPID module or a CSV of "
-                   "poses): RMS and peak deviation")
+                   "programmed path (the original program: a RAPID module, a KRL .src "
+                   "or a CSV of poses): RMS and peak deviation")
     p.add_argument("--proc", default=None, help="with --program: the procedure (default: the "
                    "one the file names in a '# procedure:' comment, else the one nearest to "
                    "the readings)")

@@ -4,12 +4,13 @@ The subset read is the one flexarm writes (and the plain expert-mode programs sh
 it): in the ``.dat``, ``DECL TYPE name=value`` lines (``E6POS``, ``POS``, ``E6AXIS``,
 ``AXIS``, ``FRAME``, ``LOAD`` or a scalar); in the ``.src``, ``DEF name( )`` ... ``END``
 routines holding system-variable assignments (``$VEL.CP = 0.02``, ``$VEL_AXIS[1] =
-10``, ``$TOOL = {X ..}``, ``$LOAD = {M .., CM {..}, J {..}}``), ``BAS (...)`` calls,
-calls of other routines and the moves ``PTP``, ``LIN`` and ``CIRC`` to declared or inline
-targets with an optional approximation (``C_DIS``, ``C_PTP``, ``C_VEL``, ``C_ORI``).
-``;`` starts a comment, ``&`` lines are editor headers.  Anything else is refused with one
-line naming the file and line: this is a check of what flexarm wrote, not a KRL
-interpreter (no ``IF``, loops, inline forms or expressions).
+10``, ``$TOOL = {X ..}``, ``$LOAD = {M .., CM {..}, J {..}}``), ``BAS`` calls (speeds, the
+null tool and base), calls of the routines the file defines and the moves ``PTP``,
+``LIN`` and ``CIRC`` to declared or inline targets with an optional approximation
+(``C_DIS``, ``C_PTP``, ``C_VEL``, ``C_ORI``).  ``;`` starts a comment, ``&`` lines are
+editor headers.  Anything else is refused with one line naming the file and line: this
+is a check of what flexarm wrote, not a KRL interpreter (no ``IF``, loops, inline forms
+or expressions).
 
 Aggregates are read by a loop over their braces with an explicit stack: no recursion,
 however deep a file nests them.  Positions stay in mm and angles in degrees, as
@@ -36,6 +37,7 @@ _TOKEN = re.compile(r"\s*(?:(?P<open>\{)|(?P<close>\})|(?P<comma>,)"
                     r"|(?P<bits>'B[01]+')|(?P<word>[^\s{},]+))")
 _DECL = re.compile(r"DECL\s+(?:GLOBAL\s+)?(\w+)\s+([A-Za-z_$][\w$]*)\s*=\s*(.+)\Z", re.I)
 _ASSIGN = re.compile(r"(\$[\w.]+)(?:\[(\d+)\])?\s*=\s*(.+)\Z")
+_BAS = re.compile(r"BAS\s*\(\s*#(\w+)\s*(?:,\s*(.*?))?\s*\)", re.I)
 _MOVE = re.compile(r"(PTP|LIN|CIRC)\s+(.+?)(?:\s+(C_DIS|C_PTP|C_VEL|C_ORI))?\Z", re.I)
 
 
@@ -92,7 +94,8 @@ class KrlProgram:
         ``.dat`` declarations: name -> (type, value); aggregates as dicts of components
         (float, int, bit strings as int, nested dicts).
     routines : dict
-        Routine name -> tuple of :class:`KrlMove`, in file order.
+        Routine name -> tuple of :class:`KrlMove`, in file order (the main routine
+        too when it has moves of its own).
     calls : tuple of str
         The routines the main routine calls, in order.
     main_settings : dict
@@ -179,6 +182,26 @@ def _lines(path: Path) -> list[tuple[int, str]]:
     return out
 
 
+def _bas(settings: dict, m: re.Match, where: str) -> None:
+    """A ``BAS (#WHAT, value)`` call as the system variables it sets: speeds (``#VEL_PTP``
+    [%], ``#VEL_CP`` [m/s]), the null tool or base (``#TOOL``/``#BASE`` 0); the motion
+    defaults (``#INITMOV``) and accelerations do not change the path.  A tool or base of
+    the controller's tables is not in the files: refused."""
+    what = m.group(1).upper()
+    value = None if m.group(2) is None else _value(m.group(2), where)
+    if what in ("INITMOV", "ACC_CP", "ACC_PTP"):
+        return
+    if what in ("VEL_PTP", "VEL_CP") and isinstance(value, (int, float)):
+        settings.update({f"$VEL_AXIS[{i}]": float(value) for i in range(1, 7)}
+                        if what == "VEL_PTP" else {"$VEL.CP": float(value)})
+    elif what in ("TOOL", "BASE") and value == 0:
+        settings[f"${what}"] = "$NULLFRAME"
+    else:
+        raise ReadError(f"{where}: unsupported call '{m.group(0)}' (flexarm reads BAS "
+                        "#INITMOV, #VEL_PTP, #VEL_CP and the null #TOOL/#BASE; set $TOOL "
+                        "and $BASE as frames, the controller's tables are not in the files)")
+
+
 def _read_dat(path: Path) -> dict:
     data = {}
     for i, s in _lines(path):
@@ -212,6 +235,7 @@ def _read_src(path: Path, data: dict) -> tuple[dict, dict]:
     routines: dict[str, list[KrlMove]] = {}
     heads: dict[str, dict] = {}
     current, settings = None, {}
+    calls: list[tuple[int, str]] = []
     known = {k.lower() for k in data}
     for i, s in _lines(path):
         where = f"{path}, line {i}"
@@ -243,15 +267,21 @@ def _read_src(path: Path, data: dict) -> tuple[dict, dict]:
             routines[current].append(KrlMove(m.group(1).upper(), targets, m.group(3),
                                              {k: v for k, v in settings.items()
                                               if k != "calls"}, i))
-        elif re.fullmatch(r"BAS\s*\(.*\)", s, re.I):
-            continue
+        elif (m := _BAS.fullmatch(s)) is not None:
+            _bas(settings, m, where)
         elif (m := re.fullmatch(r"(\w+)\s*\(\s*\)", s)) is not None:
             settings["calls"].append(m.group(1))
+            calls.append((i, m.group(1)))
         else:
             raise ReadError(f"{where}: unsupported KRL statement '{s}' (flexarm reads the "
                             "moves, assignments and calls it writes)")
     if current is not None:
         raise ReadError(f"{path}: DEF {current} has no END")
+    defined = {k.lower() for k in routines}
+    for i, name in calls:
+        if name.lower() not in defined:
+            raise ReadError(f"{path}, line {i}: {name}( ) is not a DEF of {path.name} "
+                            "(flexarm reads one .src: the moves of other files are unknown)")
     return routines, heads
 
 
@@ -282,7 +312,9 @@ def read_krl(path: PathType) -> KrlProgram:
     if main is None:
         raise ReadError(f"{path}: no main routine DEF {path.stem}( )")
     settings = {k: v for k, v in heads[main].items() if k != "calls"}
-    return KrlProgram(main, data, {k: tuple(v) for k, v in routines.items() if k != main},
+    # the main routine is a routine of its own only when it moves the arm itself
+    return KrlProgram(main, data, {k: tuple(v) for k, v in routines.items()
+                                   if k != main or v},
                       tuple(heads[main]["calls"]), settings)
 
 

@@ -74,3 +74,18 @@ def test_a_missing_dat_names_it(pair):
     pair.with_suffix(".dat").unlink()
     with pytest.raises(ReadError, match="cell.dat"):
         read_krl(pair)
+
+
+def test_main_moves_bas_speeds_and_undefined_calls(tmp_path):
+    src, dat = tmp_path / "own.src", tmp_path / "own.dat"
+    dat.write_text("DEFDAT own\nDECL E6POS p={X 1,Y 2,Z 3,A 0,B 0,C 0}\nENDDAT\n")
+    src.write_text("DEF own( )\nBAS (#VEL_PTP,30 )\nBAS (#TOOL,0 )\nPTP p\nEND\n")
+    prog = read_krl(src)  # the main routine moves the arm itself: it is a routine too
+    (move,) = prog.routines["own"]
+    assert move.settings["$VEL_AXIS[6]"] == 30.0 and move.settings["$TOOL"] == "$NULLFRAME"
+    src.write_text("DEF own( )\nBAS (#INITMOV,0 )\nmissing( )\nEND\n")
+    with pytest.raises(ReadError, match=r"own.src, line 3: missing\( \) is not a DEF of own.src"):
+        read_krl(src)
+    src.write_text("DEF own( )\nBAS (#BASE,2 )\nEND\n")
+    with pytest.raises(ReadError, match=r"own.src, line 2: unsupported call 'BAS \(#BASE,2 \)'"):
+        read_krl(src)

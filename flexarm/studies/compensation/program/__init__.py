@@ -1,9 +1,10 @@
-"""Programs in and out: what the arm runs, read from a RAPID module or a CSV of poses, and
-the compensated program written as RAPID, KUKA KRL or a CSV of poses.
+"""Programs in and out: what the arm runs, read from a RAPID module, a KUKA KRL program or
+a CSV of poses, and the compensated program written as RAPID, KUKA KRL or a CSV of poses.
 
 Modules: :mod:`.program_path` (procedures as the arm runs them: sampled path and joint
-angles), :mod:`.path_in` (a CSV of poses as a RAPID module, and :func:`read_program`,
-the one reader of a program file for ``compensate``, ``lab`` and ``compare``),
+angles), :mod:`.krl_in` (a KRL ``.src``/``.dat`` pair as a RAPID module), :mod:`.path_in`
+(a CSV of poses as a RAPID module, and :func:`read_program`, the one reader of a program
+file for ``compensate``, ``lab``, ``compare`` and ``history``),
 :mod:`.rapid_out` (rewriting only the robtargets of a module's text), :mod:`.densify`
 (splitting long motions) and :mod:`.program_out` (the program for other controllers, all
 files or none).

@@ -26,7 +26,7 @@ import numpy as np
 from ....robot.formats.rapid import RapidModule
 from ....robot.ik_path import rapid_conf
 from .program_path import ProgramPath
-from .rapid_out import POS_DECIMALS, QUAT_DECIMALS, _number
+from .rapid_out import POS_DECIMALS, QUAT_DECIMALS, _number, module_of_text
 
 __all__ = ["densify"]
 
@@ -147,6 +147,10 @@ def densify(text: str, module: RapidModule, pps: tuple[ProgramPath, ...], chain,
     made: dict[tuple, list[tuple[str | None, str]]] = {}
     decls: dict[str, list[str]] = {}
     edits, notes = [], []
+    # the motions' lines in ``text`` itself: a module read from a CSV or KRL program
+    # carries the line numbers of that file, not of the generated RAPID text
+    at_line = {p.lower(): [m.line for m in pr.motions]
+               for p, pr in module_of_text(text).procedures.items()}
     for pp in pps:
         proc = module.procedure(pp.name)
         ch = replace(chain, tool=pp.tool)
@@ -182,7 +186,7 @@ def densify(text: str, module: RapidModule, pps: tuple[ProgramPath, ...], chain,
                         names.append(nm)
                     subs.append(tuple(names))
                 made[key] = subs
-            a0, b0, indent = _statement(text, m.line)
+            a0, b0, indent = _statement(text, at_line[pp.name.lower()][k])
             body = text[a0:b0]
             lines = []
             for cir, end in made[key]:

@@ -1,8 +1,8 @@
 """A CSV of tool poses as a program, and :func:`read_program`, the one reader of a program
 file for ``compensate``, ``lab --program``, ``compare --program`` and ``history``.
 
-Those commands take, besides a RAPID module, a CSV of poses in the base frame
-(``wobj0``), one target a row:
+Those commands take, besides a RAPID module and a KUKA KRL ``.src`` with its ``.dat``
+(:mod:`.krl_in`), a CSV of poses in the base frame (``wobj0``), one target a row:
 
 * positions ``x_mm, y_mm, z_mm`` (any length unit the measurement files accept:
   ``x_m``, ``x_in`` ...), required;
@@ -49,6 +49,7 @@ from ....robot.tolerances import tol as robot_tol
 from ....validation.data.formats._table import Field, Schema, read_table, vector
 from ...tolerances import tol
 from ..solve.ik_batch import newton_ik
+from .krl_in import krl_module
 from .rapid_out import module_of_text, read_module_text
 
 __all__ = ["is_poses_csv", "read_program", "poses_module", "named_procedure"]
@@ -266,18 +267,20 @@ def poses_module(path: PathType, robot=None, tool=None,
 
 def read_program(program: PathType, robot=None, tool=None,
                  orientation=None) -> tuple[str, str, RapidModule]:
-    """(text, encoding, module) of a program: a RAPID module as written, or a CSV of poses
-    (``.csv``) as one (:func:`poses_module`).
+    """(text, encoding, module) of a program: a RAPID module as written, a CSV of poses
+    (``.csv``) as one (:func:`poses_module`), or a KUKA KRL ``.src`` with its ``.dat`` as
+    one (:func:`~.krl_in.krl_module`).
 
     Parameters
     ----------
     program : path
-        The RAPID module or the CSV of poses.
+        The RAPID module, the CSV of poses or the KRL ``.src``.
     robot : Robot or None
-        The arm the CSV's poses are solved on (their configurations); None: the
-        programmed path only (``compare``, ``history``).
+        The arm the CSV's poses and the KRL targets are solved on (their
+        configurations); None: the programmed path only (``compare``, ``history``).
     tool : None, "tool0", "robot" or (4, 4) float
-        What a CSV's poses are read as (default ``tool0``).
+        What a CSV's poses are read as (default ``tool0``); a KRL program's targets
+        (default: its ``$TOOL``).
     orientation : (4,) float, optional
         Quaternion ``[w, x, y, z]`` of every pose of a CSV of positions only.
 
@@ -299,8 +302,14 @@ def read_program(program: PathType, robot=None, tool=None,
     if is_poses_csv(program):
         text, module = poses_module(program, robot, tool, orientation)
         return text, "utf-8", module
+    name, suffix = Path(program).name, Path(program).suffix.lower()
     if orientation is not None:
-        raise ValueError(f"--orientation goes with a CSV of positions, not with the RAPID "
-                         f"module {Path(program).name} (its robtargets give it)")
+        raise ValueError(f"--orientation goes with a CSV of positions, not with the program "
+                         f"{name} (its targets give it)")
+    if suffix == ".src":  # KUKA KRL, the .dat read beside it
+        text, module = krl_module(program, robot, tool)
+        return text, "utf-8", module
+    if suffix == ".dat":
+        raise ValueError(f"{name}: give the KRL program's .src (its .dat is read beside it)")
     text, encoding = read_module_text(program)
     return text, encoding, read_rapid(program)
