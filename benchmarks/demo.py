@@ -12,12 +12,16 @@ peak together).  CPU time is the tree's (user + system, every process waited for
 each process's: the busiest one bounds the wall time on an idle machine from below.
 Targets (issue 28): cold <= 60 s; warm <= 5 s on 2 idle cores.
 
-The split (``--no-split`` leaves it out) runs the warm demo once more in one process
-(``-j 1``, the steps in order) with a clock on every import, every cache read and every
-progress line the demo prints: imports and cache reads are taken out of the stage they
-happen in, and each stage runs from its progress line to the next.
+The split (``--no-split`` leaves it out) runs the demo once more in one process (``-j 1``,
+the steps in order) with a clock on every import, every cache read and every progress
+line the demo prints: imports and cache reads are taken out of the stage they happen in,
+and each stage runs from its progress line to the next.  A stage's CPU time includes the
+subprocesses it waited for (the render probe).  After a cold run it is done twice: cold,
+in another empty cache (where a cold run's CPU time goes, step by step: the two-process
+run shares these steps out), then warm.  The accuracy study's steps are listed apart
+(its Tet4 reference, its variants, its Tet10 reference).
 
-    python benchmarks/demo.py             # cold + warm in a temporary cache, then the split
+    python benchmarks/demo.py             # cold + warm in a temporary cache, then the splits
     python benchmarks/demo.py --warm-only # uses your normal cache
     python benchmarks/demo.py --warm-only --repeat 3
 """
@@ -40,8 +44,14 @@ from pathlib import Path
 _PERIOD = 0.05
 #: The checkout this benchmark belongs to (its ``flexarm`` is the one measured).
 _ROOT = Path(__file__).resolve().parents[1]
-#: Progress lines of these prefixes come once per link or variant: one stage each.
-_PER_ITEM = {"build": "build: per link", "study": "study: per variant"}
+#: Progress lines of these prefixes come once per link: one stage each.
+_PER_ITEM = {"build": "build: per link"}
+#: The accuracy study's lines that begin a stage (first match); its other lines (one per
+#: link or variant, and results) continue the stage they are in.  Its Tet10 reference
+#: announces itself, then prints the same line as the Tet4 one.
+_STUDY_STAGES = (("study: full FE with Tet10", "study: full-FE reference, Tet10 (mesh error)"),
+                 ("study: full-FE reference at", "study: full-FE reference, Tet4"),
+                 ("study: meshing all links", "study: variants (builds, solves)"))
 
 
 def _proc_stat(pid: int) -> list[str]:
@@ -158,12 +168,12 @@ class StageClock:
 
     def __init__(self, first: str):
         self._stack = [first]
-        self._mark = (time.perf_counter(), time.process_time())
+        self._mark = (time.perf_counter(), _cpu_here())
         self.wall: dict[str, float] = defaultdict(float)
         self.cpu: dict[str, float] = defaultdict(float)
 
     def _charge(self) -> None:
-        now = (time.perf_counter(), time.process_time())
+        now = (time.perf_counter(), _cpu_here())
         top = self._stack[-1]
         self.wall[top] += now[0] - self._mark[0]
         self.cpu[top] += now[1] - self._mark[1]
@@ -185,7 +195,10 @@ class StageClock:
         parentheses; per-link and per-variant lines of one kind make one stage)."""
         self._charge()
         head = line.split(":", 1)[0]
-        name = _PER_ITEM.get(head, re.sub(r" \([^()]*\)$", "", line))
+        if head == "study":
+            name = _study_stage(line, self._stack[0])
+        else:
+            name = _PER_ITEM.get(head, re.sub(r" \([^()]*\)$", "", line))
         self._stack[0] = name
         self.wall[name] += 0.0  # listed in the order the stages begin
         self.cpu[name] += 0.0
@@ -196,9 +209,35 @@ class StageClock:
         return {k: (self.wall[k], self.cpu[k]) for k in self.wall}
 
 
+def _cpu_here() -> float:
+    """CPU time [s] of this process and of the subprocesses it has waited for."""
+    ru = os.times()
+    return time.process_time() + ru.children_user + ru.children_system
+
+
+def _study_stage(line: str, current: str) -> str:
+    """The stage a progress line of the accuracy study belongs to (``current`` if it
+    begins none; the Tet10 reference's own reference line continues its stage).
+
+    Examples
+    --------
+    >>> _study_stage("study: full-FE reference at 30 mm (rbe2)", "arm: accuracy study")
+    'study: full-FE reference, Tet4'
+    >>> _study_stage("study: base: full FE model", "study: full-FE reference, Tet4")
+    'study: full-FE reference, Tet4'
+    >>> _study_stage("study: full-FE reference at 30 mm (rbe2)",
+    ...              "study: full-FE reference, Tet10 (mesh error)")
+    'study: full-FE reference, Tet10 (mesh error)'
+    """
+    for prefix, name in _STUDY_STAGES:
+        if line.startswith(prefix):
+            return current if current == _STUDY_STAGES[0][1] else name
+    return current
+
+
 def _split_child(out: str) -> None:
-    """Run the warm demo here with a :class:`StageClock` and print its stages as JSON
-    (the last line of stdout)."""
+    """Run the demo here (``-j 1``, cold or warm as its cache is) with a
+    :class:`StageClock` and print its stages as JSON (the last line of stdout)."""
     import builtins
 
     sys.path.insert(0, str(_ROOT))
@@ -229,8 +268,9 @@ def _split_child(out: str) -> None:
     print(json.dumps({"stages": stages, "reads": len(reads), "read_mb": sum(reads) / 1e6}))
 
 
-def split(cache: str | None, out: str) -> None:
-    """Print where a warm run's time goes (:func:`_split_child` in a fresh process)."""
+def split(cache: str | None, out: str, kind: str = "warm") -> None:
+    """Print where a ``kind`` (cold or warm: the state of ``cache``) run's time goes
+    (:func:`_split_child` in a fresh process)."""
     run_ = subprocess.run([sys.executable, __file__, "--split-child", out], env=_env(cache),
                           capture_output=True, text=True, cwd=_ROOT)
     if run_.returncode:
@@ -239,7 +279,7 @@ def split(cache: str | None, out: str) -> None:
     stages = got["stages"]
     wall = sum(w for w, _ in stages.values())
     cpu = sum(c for _, c in stages.values())
-    print(f"where a warm run's time goes (one process, -j 1; load "
+    print(f"where a {kind} run's time goes (one process, -j 1; load "
           f"{os.getloadavg()[0]:.1f}): {wall:.1f} s wall, {cpu:.1f} s CPU")
     print(f"  {'stage':<66s} {'wall [s]':>8s} {'CPU [s]':>8s}")
     for name, (w, c) in stages.items():
@@ -254,7 +294,7 @@ def main() -> None:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--warm-only", action="store_true", help="use the normal cache, no cold run")
     ap.add_argument("--repeat", type=int, default=1, help="warm runs (default 1)")
-    ap.add_argument("--no-split", action="store_true", help="leave out the stage split")
+    ap.add_argument("--no-split", action="store_true", help="leave out the stage splits")
     ap.add_argument("--split-child", metavar="OUT", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.split_child:
@@ -268,6 +308,8 @@ def main() -> None:
         for i in range(args.repeat):
             timed_run(cache, os.path.join(tmp, f"warm{i}"), "warm", "<= 5 s, 2 idle cores")
         if not args.no_split:
+            if not args.warm_only:
+                split(os.path.join(tmp, "cache-split"), os.path.join(tmp, "split-cold"), "cold")
             split(cache, os.path.join(tmp, "split"))
     print(f"load average at end: {os.getloadavg()[0]:.1f}")
 

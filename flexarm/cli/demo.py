@@ -13,8 +13,9 @@ def _add_demo(p: argparse.ArgumentParser) -> None:
     p.add_argument("--part", action="store_true",
                    help="also run the single-part pipeline (full FE modes of one cast link)")
     p.add_argument("-j", "--jobs", type=count(1, 64), default=2,
-                   help="processes (default 2: the E-model and measurement steps run beside the "
-                        "flexible arm; 1: every step in order, in this process)")
+                   help="processes (default 2: on a first run the accuracy study's full-FE "
+                        "references and the E-model run beside the other steps; 1: every step "
+                        "in order, in this process)")
 
 
 @command("demo", "the main job on the built-in robot: tables and pictures in flexarm-demo/",

@@ -14,6 +14,7 @@ processes wide.
 from __future__ import annotations
 
 import logging
+import os
 import sys
 import time
 from pathlib import Path
@@ -21,16 +22,14 @@ from pathlib import Path
 from ..fe.files import atomic_folder
 from .demo_cache import is_warm, mark_warm
 from .demo_measurements import measurement_step
-from .demo_models import emodel_step, flexible_step
+from .demo_models import emodel_step, flexible_arm_step, flexible_step
 from .demo_part import part_step
 from .demo_results import DemoResult, Progress, StepResult
+from .demo_study import accuracy_study, study_references, study_variants
 
 __all__ = ["DemoResult", "run_demo"]
 
 log = logging.getLogger(__name__)
-
-#: The steps a worker process runs: they need no superelements, only link meshes.
-_WORKER_STEPS = {"emodel": emodel_step, "measurements": measurement_step}
 
 
 def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: float = 0.03,
@@ -50,15 +49,16 @@ def run_demo(folder="flexarm-demo", progress: Progress | None = None, size: floa
     part : bool
         Also run the single-part pipeline (full FE modes of one cast link).
     jobs : int
-        Processes to use: with 2 or more, the E-model and measurement steps (which need
-        no superelements) run in a second process while the flexible-arm step runs
-        here, and the off-screen render probe starts at once in the background.  The
-        second process is forked where that is safe (Linux, no other thread running,
-        BLAS threads on pthreads), after the modules both need are loaded here once;
-        else spawned.  ``1`` runs everything in order in this process, and so does a
-        warm run (an earlier run of this package with the same options completed, so
-        every step is mostly cache reads and starting a second process costs more than
-        it saves).  The index is the same either way.
+        Processes to use: with 2 or more, a second process computes the accuracy
+        study's full-FE references (most of a cold run) into the cache, then runs the
+        E-model step, while the other steps run here, and the off-screen render probe
+        starts at once in the background.  The second process is forked where that is
+        safe (Linux, no other thread running, BLAS threads on pthreads), after the
+        modules both need are loaded here once; else spawned.  ``1`` runs everything in
+        order in this process, and so does a warm run (an earlier run of this package
+        with the same options completed, so every step is mostly cache reads and
+        starting a second process costs more than it saves).  The index is the same
+        either way.
 
     Returns
     -------
@@ -106,7 +106,13 @@ def _can_spawn() -> bool:
 
 def _run_parallel(out: Path, progress: Progress, size: float,
                   part: bool) -> list[StepResult]:
-    """Flexible arm here; E-model and measurements in a second process (same index)."""
+    """The accuracy study's full-FE references, then the E-model step, in a second
+    process; the other steps and the study's variants here (same index).
+
+    The references (the Tet10 one above all) are most of a cold run, and the E-model
+    step makes the two processes' shares about even.  The study is then read back from
+    what both processes computed into the cache (:mod:`~flexarm.studies.demo_study`).
+    """
     import multiprocessing
     import threading
     from concurrent.futures import ProcessPoolExecutor
@@ -123,17 +129,25 @@ def _run_parallel(out: Path, progress: Progress, size: float,
             # The worker starts first (a fork copies this process, so no thread of ours
             # may run yet): its start overlaps the work here.  Both processes read the
             # same tetrahedra: the demo arm ships its link meshes (pinned volume meshes).
-            future = pool.submit(_steps_job, str(out), ("emodel", "measurements"))
+            references = pool.submit(_worker_job, str(out), "references")
+            emodel_job = pool.submit(_worker_job, str(out), "emodel")
             relay_thread.start()
             prefetch_render_backend()
             first = [part_step(out, progress, size)] if part else []
-            flexible = flexible_step(out, progress)
-            emodel, measurements = future.result()
+            flexible = flexible_arm_step(out, progress)
+            measurements = measurement_step(out, progress)
+            progress("arm: accuracy study at P1: variants here, full-FE references in the "
+                     "second process (cached after the first run)")
+            study_variants(progress)
+            references.result()
+            # every part of it is in the cache now: its progress lines would repeat
+            study = accuracy_study(out, log.info)
+            emodel = emodel_job.result()
     finally:
         queue.put(None)
         if relay_thread.is_alive():
             relay_thread.join()
-    return [*first, emodel, flexible, measurements]
+    return [*first, emodel, flexible.with_study(study), measurements]
 
 
 def _ready_to_fork() -> bool:
@@ -159,9 +173,10 @@ def _ready_to_fork() -> bool:
 
 def _load_shared() -> None:
     """Before a fork: load once what both processes need (the robot description and the
-    mesh libraries its checks import, matplotlib, the validation layer, the package
-    digest the demo's cache keys use)."""
+    mesh libraries its checks import, matplotlib, the validation layer, the full-FE
+    models, the package digest the demo's cache keys use)."""
     from .. import validation  # noqa: F401 - loaded for both processes
+    from ..assembly import full_fe  # noqa: F401 - loaded for both processes
     from ..fe.cache import package_digest
     from ..fe.plotting import pyplot
     from ..robot import load_robot
@@ -187,8 +202,9 @@ def _init_worker(queue) -> None:
     _worker_say = queue.put
 
 
-def _steps_job(folder: str, names: tuple[str, ...]) -> list[StepResult]:
-    """Demo steps ``names`` (keys of ``_WORKER_STEPS``) in a worker process, in order.
+def _worker_job(folder: str, name: str) -> StepResult | None:
+    """Job ``name`` (a key of ``_WORKER_JOBS``) on the output folder ``folder`` in a worker
+    process, with one BLAS thread.
 
     Progress lines go to the parent through the queue given to :func:`_init_worker`.
     """
@@ -196,5 +212,17 @@ def _steps_job(folder: str, names: tuple[str, ...]) -> list[StepResult]:
 
     say = _worker_say or (lambda s: None)
     # The parent keeps the other core busy; two BLAS pools of two threads would fight.
+    # MKL (PARDISO) is loaded later, by the job: it reads its thread count then.
+    os.environ.update({"MKL_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"})
     with threadpool_limits(1):
-        return [_WORKER_STEPS[name](Path(folder), say) for name in names]
+        return _WORKER_JOBS[name](Path(folder), say)
+
+
+def _references(out: Path, progress: Progress) -> None:
+    """The accuracy study's full-FE references into the cache (nothing written to ``out``)."""
+    study_references(progress)
+
+
+#: What a worker process runs while this one runs the other steps: (output folder,
+#: progress) -> the step's result, or None for work that only fills the cache.
+_WORKER_JOBS = {"references": _references, "emodel": emodel_step}

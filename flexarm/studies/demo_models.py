@@ -4,14 +4,17 @@ with a stiffness map over joints 2 and 3.
 
 Both steps build their arm with :func:`~flexarm.assembly.arm.build_arm` and report
 through the same API the ``compliance``, ``frf``, ``map``, ``compare-models``, ``study``
-and ``show-arm`` commands use.  The model comparison, the stiffness maps and the accuracy study are kept
-between runs (:func:`~flexarm.studies.demo_cache.demo_result`); their tables and
-pictures are written every run.
+and ``show-arm`` commands use.  The model comparison, the stiffness maps and the accuracy
+study (:mod:`~flexarm.studies.demo_study`) are kept between runs
+(:func:`~flexarm.studies.demo_cache.demo_result`); their tables and pictures are written
+every run.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..assembly.arm import Arm, ArmSpec, build_arm
 from ..assembly.build import LinkBuild
@@ -19,8 +22,12 @@ from ..robot import load_robot
 from .compliance import ComplianceReport, compliance_report
 from .demo_cache import demo_result
 from .demo_results import Progress, StepResult, write_table
+from .demo_study import accuracy_study, study_lines
 
-__all__ = ["POSES", "emodel_step", "flexible_step"]
+if TYPE_CHECKING:
+    from .arm_study import StudyResult
+
+__all__ = ["POSES", "FlexibleArmPart", "emodel_step", "flexible_arm_step", "flexible_step"]
 
 #: The thesis poses every table of the demo covers.
 POSES = ("P1", "P2", "P3")
@@ -74,13 +81,54 @@ def emodel_step(out: Path, progress: Progress) -> StepResult:
 
 
 def flexible_step(out: Path, progress: Progress) -> StepResult:
-    """The flexible arm: link builds, model comparison, accuracy study, map and pictures.
+    """The flexible arm: link builds, model comparison, map and pictures
+    (:func:`flexible_arm_step`), then the accuracy study
+    (:func:`~flexarm.studies.demo_study.accuracy_study`).
 
     Writes ``build.csv``, ``models/``, ``study/``, ``flexible_map.csv``,
     ``flexible_map/`` and the mode pictures ``arm_P1_mode1.gif``, ``arm_P1_mode2.png``
     into ``out``.
     """
-    from .arm_study import run_study, write_study
+    part = flexible_arm_step(out, progress)
+    progress("arm: accuracy study at P1 against the full-FE reference (cached after the first run)")
+    return part.with_study(accuracy_study(out, progress))
+
+
+@dataclass(frozen=True)
+class FlexibleArmPart:
+    """The flexible arm's section of ``index.md`` but for the accuracy study, which goes
+    between ``head`` and ``tail``, and its headline figures (:meth:`with_study`).
+
+    Attributes
+    ----------
+    head, tail : tuple of str
+        Index lines before and after the study's.
+    figures : tuple of (str, float)
+        Headline figures of the poses, in order.
+    map_share : float
+        Share of the stiffness map's grid where y is the least stiff direction [-].
+    """
+
+    head: tuple[str, ...]
+    tail: tuple[str, ...]
+    figures: tuple[tuple[str, float], ...]
+    map_share: float
+
+    def with_study(self, study: StudyResult) -> StepResult:
+        """The whole step, with the lines and the figure of ``study``."""
+        lines, figures = study_lines(study)
+        return StepResult([*self.head, *lines, *self.tail],
+                          {**dict(self.figures), **figures,
+                           "flexible_map_y_weakest_share": self.map_share})
+
+
+def flexible_arm_step(out: Path, progress: Progress) -> FlexibleArmPart:
+    """The flexible arm but for its accuracy study: link builds, model comparison, poses,
+    stiffness map and mode pictures.
+
+    Writes ``build.csv``, ``models/``, ``flexible_map.csv``, ``flexible_map/``,
+    ``arm_P1_mode1.gif`` and ``arm_P1_mode2.png`` into ``out``.
+    """
     from .compare_models import compare_models
 
     robot = load_robot()
@@ -96,23 +144,10 @@ def flexible_step(out: Path, progress: Progress) -> StepResult:
                 robot.full_repr()).write(out / "models")
     rows, figures = _flexible_poses(arm)
 
-    progress("arm: accuracy study at P1 against the full-FE reference (cached after the first run)")
-    # the variants' times in the study (and its Pareto plot) are those of the run that
-    # computed it, as the build times of cached superelements are
-    sweep = {"sizes": (robot.options.mesh_size,), "modes": (0, 5, 10),
-             "couplings": ("rbe2", "rbe3"), "tet10": True}
-    study = demo_result("study", lambda: run_study(
-        robot, "P1", progress=lambda s: progress(f"study: {s}"), **sweep),
-        robot.full_repr(), sorted(sweep.items()))
-    write_study(study, out / "study")
-
-    if study.discretisation is not None and study.discretisation.lower is not None:
-        figures["flexible_mesh_error_min_pct"] = 100 * study.discretisation.lower
     progress("arm: flexible stiffness map over (q2, q3) and mode pictures")
     share_y, map_lines = _joint_map(out, arm, "flexible_map", 30)
-    figures["flexible_map_y_weakest_share"] = share_y
     opts = arm.spec.build_options().resolved(robot)
-    lines = [
+    head = (
         "## The flexible arm (Craig-Bampton links joined by the same joint springs)",
         "",
         f"Links tetrahedralised at {opts.mesh_size * 1e3:g} mm, reduced by {opts.method.upper()}"
@@ -127,16 +162,15 @@ def flexible_step(out: Path, progress: Progress) -> StepResult:
         "- Model comparison (first 10 frequencies, TCP compliance): "
         "[model_comparison.csv](models/model_comparison.csv) · "
         "![Bode](models/model_comparison_bode.png)",
-        f"- Accuracy study at P1 vs the full-FE reference ({study.reference.n_dofs} DOF): "
-        f"[arm_study.csv](study/arm_study.csv); {study.verdict.replace(chr(10), '; ')}",
-        "  ![error vs DOF](study/arm_study_error_vs_dof.png) ![Pareto](study/arm_study_pareto.png)",
+    )
+    tail = (
         f"- Flexible stiffness map: [flexible_map.csv](flexible_map.csv); Y is the least stiff "
         f"direction on {share_y * 100:.1f}% of the grid.",
         *map_lines,
         *_arm_pictures(out, arm),
         "",
-    ]
-    return StepResult(lines, figures)
+    )
+    return FlexibleArmPart(head, tail, tuple(figures.items()), share_y)
 
 
 def _emodel_poses(arm: Arm) -> tuple[list[list], list[str], dict[str, float]]:

@@ -51,3 +51,24 @@ def test_intervals_go_to_the_innermost_category_then_the_current_stage(monkeypat
     # nothing is counted twice or lost: the stages add up to the clock's whole span
     assert sum(wall.values()) == 10.0 - 1.0
     assert sum(c for _, c in stages.values()) == pytest.approx((10.0 - 1.0) / 2)
+
+
+def test_the_accuracy_study_is_split_into_its_references_and_variants():
+    clock = BENCH["StageClock"]("start-up")
+    lines = ["arm: accuracy study at P1 against the full-FE reference (cached after the first run)",
+             "study: full-FE reference at 30 mm (rbe2)", "study: base: full FE model",
+             "study: full-FE reference: 46059 DOF in 5.8 s",
+             "study: meshing all links at 30 mm (cached)",
+             "study: [1/6] 30 mm rbe2 Guyan: 54 DOF, f err 0.67%",
+             "study: [2/6] 30 mm rbe2 CB(5): 89 DOF, f err 0.0352%",
+             "study: full FE with Tet10 elements at 30 mm (mesh error)",
+             "study: full-FE reference at 30 mm (rbe2)", "study: base: full FE model",
+             "study: full-FE reference: 282285 DOF in 44.4 s",
+             "arm: flexible stiffness map over (q2, q3) and mode pictures"]
+    for line in lines:
+        clock.stage(line)
+    assert list(clock.close()) == [
+        "start-up", "arm: accuracy study at P1 against the full-FE reference",
+        "study: full-FE reference, Tet4", "study: variants (builds, solves)",
+        "study: full-FE reference, Tet10 (mesh error)",
+        "arm: flexible stiffness map over (q2, q3) and mode pictures"]

@@ -4,23 +4,14 @@ from __future__ import annotations
 
 import pytest
 
-from flexarm.studies.demo import _init_worker, _steps_job, run_demo
+from flexarm.studies.demo import _init_worker, _worker_job, run_demo
+from flexarm.studies.demo_measurements import measurement_step
 
 
 def test_measurement_demo_error_falls_into_band(tmp_path):
-    # the way run_demo runs it: in a spawned worker, results and progress sent back
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    ctx = multiprocessing.get_context("spawn")
-    queue = ctx.SimpleQueue()
-    with ProcessPoolExecutor(1, mp_context=ctx, initializer=_init_worker,
-                             initargs=(queue,)) as pool:
-        [step] = pool.submit(_steps_job, str(tmp_path), ("measurements",)).result()
-    lines, f = step.lines, step.figures
     said = []
-    while not queue.empty():
-        said.append(queue.get())
+    step = measurement_step(tmp_path, said.append)
+    lines, f = step.lines, step.figures
     assert any(s.startswith("measurements:") for s in said)
     # nominal stiffnesses are 30 % off: far outside the noise band ...
     assert f["measurements_chi2_red_nominal"] > 10
@@ -41,6 +32,25 @@ def test_full_demo_writes_index(tmp_path):
     assert "E-model" in index and "backlash" in index
     assert 5.0 < result.figures["emodel_P1_defl_800N_y_mm"] < 7.0
     assert index == result.index_text()
+
+
+def test_emodel_step_in_a_spawned_worker_sends_result_and_progress_back(tmp_path):
+    # the way run_demo runs it where it cannot fork: the step's result is pickled back
+    # and its progress lines come through the queue
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    ctx = multiprocessing.get_context("spawn")
+    queue = ctx.SimpleQueue()
+    with ProcessPoolExecutor(1, mp_context=ctx, initializer=_init_worker,
+                             initargs=(queue,)) as pool:
+        step = pool.submit(_worker_job, str(tmp_path), "emodel").result()
+    said = []
+    while not queue.empty():
+        said.append(queue.get())
+    assert said and all(s.startswith("arm: ") for s in said)
+    assert 5.0 < step.figures["emodel_P1_defl_800N_y_mm"] < 7.0
+    assert (tmp_path / "emodel_poses.csv").stat().st_size > 0
 
 
 def test_can_spawn_falls_back_without_semaphores(monkeypatch):

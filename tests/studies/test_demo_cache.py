@@ -6,6 +6,7 @@ from __future__ import annotations
 import os
 import pickle
 import threading
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -99,14 +100,18 @@ def test_worker_is_forked_only_from_one_thread_on_pthreads_blas(monkeypatch):
 
 
 def test_two_process_run_forks_the_worker_and_keeps_the_index_order(tmp_path, monkeypatch):
-    """jobs=2: the worker (forked, so it sees these stand-ins) runs the E-model and
-    measurement steps in another process and sends its progress lines back; the index
-    is in step order, as in one process."""
+    """jobs=2: the worker (forked, so it sees these stand-ins) computes the study's
+    references, then runs the E-model step, and sends its progress lines back; the study
+    is made here only once the references are done; the index is in step order, as in
+    one process."""
+    from flexarm.studies.demo_models import FlexibleArmPart
+
     monkeypatch.setattr(demo, "_load_shared", lambda: None)
     monkeypatch.setattr(demo, "is_warm", lambda *inputs: False)
     monkeypatch.setattr(demo, "mark_warm", lambda *inputs: None)
     if not demo._ready_to_fork():
         pytest.skip("the worker is spawned here: it would run the real steps")
+    done = tmp_path / "references.pid"
 
     def step(name):
         def run(out, progress):
@@ -114,16 +119,39 @@ def test_two_process_run_forks_the_worker_and_keeps_the_index_order(tmp_path, mo
             return StepResult([f"## {name}"], {f"{name}_pid": float(os.getpid())})
         return run
 
-    monkeypatch.setitem(demo._WORKER_STEPS, "emodel", step("emodel"))
-    monkeypatch.setitem(demo._WORKER_STEPS, "measurements", step("measurement"))
-    monkeypatch.setattr(demo, "flexible_step", step("flexible"))
+    def references(out, progress):
+        progress("references: running")
+        done.write_text(str(os.getpid()))
+
+    def flexible_arm(out, progress):
+        progress("flexible: running")
+        return FlexibleArmPart(("## flexible",), ("flexible tail",),
+                               (("flexible_pid", float(os.getpid())),), 0.5)
+
+    def study(out, progress):
+        # a stand-in for the StudyResult: what with_study reads of it
+        return SimpleNamespace(pose="P1", verdict="v", discretisation=None,
+                               reference=SimpleNamespace(n_dofs=int(done.read_text())))
+
+    monkeypatch.setitem(demo._WORKER_JOBS, "references", references)
+    monkeypatch.setitem(demo._WORKER_JOBS, "emodel", step("emodel"))
+    monkeypatch.setattr(demo, "flexible_arm_step", flexible_arm)
+    monkeypatch.setattr(demo, "measurement_step", step("measurement"))
+    monkeypatch.setattr(demo, "study_variants", lambda progress: progress("variants: running"))
+    monkeypatch.setattr(demo, "accuracy_study", study)
     said = []
     result = demo.run_demo(tmp_path / "out", progress=said.append, jobs=2)
-    assert result.lines == ("## emodel", "## flexible", "## measurement")
+    lines = result.lines
+    assert lines[0] == "## emodel" and lines[1] == "## flexible" and lines[-1] == "## measurement"
+    assert lines[-2] == "flexible tail" and lines[2].startswith("- Accuracy study at P1")
+    worker = int(done.read_text())
+    assert f"({worker} DOF)" in lines[2] and worker != os.getpid()
     figures = dict(result.figures)
-    assert figures["flexible_pid"] == os.getpid()
-    assert figures["emodel_pid"] == figures["measurement_pid"] != os.getpid()
-    assert sorted(said) == ["emodel: running", "flexible: running", "measurement: running"]
+    assert figures["flexible_pid"] == figures["measurement_pid"] == os.getpid()
+    assert figures["emodel_pid"] == worker
+    assert figures["flexible_map_y_weakest_share"] == 0.5
+    assert {"emodel: running", "flexible: running", "measurement: running",
+            "references: running", "variants: running"} <= set(said)
     assert (tmp_path / "out" / "index.md").read_text() == result.index_text()
 
 
@@ -139,7 +167,7 @@ def test_a_warm_run_stays_in_one_process(tmp_path, monkeypatch):
             return StepResult([f"## {name}"], {f"{name}_pid": float(os.getpid())})
         return run
 
-    monkeypatch.setitem(demo._WORKER_STEPS, "emodel", step("emodel"))
+    monkeypatch.setitem(demo._WORKER_JOBS, "emodel", step("emodel"))
     monkeypatch.setattr(demo, "emodel_step", step("emodel"))
     monkeypatch.setattr(demo, "measurement_step", step("measurement"))
     monkeypatch.setattr(demo, "flexible_step", step("flexible"))
