@@ -16,7 +16,7 @@ from .errors import MeshError
 from .notebook import names
 from .structured import box_tets, promote_tet10
 from .tolerances import tol
-from .topology import TET10_EDGES, TET_FACES, outer_faces
+from .topology import TET10_EDGES, TET_FACES, outer_faces, single_rows
 
 __all__ = ["TetMesh", "TET10_EDGES", "TET_FACES"]
 
@@ -143,9 +143,7 @@ volume 0.00064 m^3)
         outer skins, not the walls of inner cavities (:func:`~.topology.outer_faces`).
         """
         faces = self.corner_tets[:, TET_FACES].reshape(-1, 3)
-        key = np.sort(faces, axis=1)
-        _, inverse, counts = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-        faces = faces[counts[inverse.ravel()] == 1]
+        faces = faces[single_rows(faces, self.n_nodes)]
         return faces[outer_faces(self.points, faces)] if outer else faces
 
     def boundary_nodes(self, outer: bool = False) -> np.ndarray:

@@ -27,6 +27,7 @@ import scipy.sparse as sp
 
 from ..fe.geometry import skew
 from ..fe.mesh import TET10_EDGES, TET_FACES, TetMesh
+from ..fe.topology import single_rows
 from ..fe.typing import FloatArray, IntArray
 from .interfaces import Interface, check_spread
 
@@ -98,9 +99,7 @@ class Coupling:
 def _boundary_triangles(mesh: TetMesh) -> np.ndarray:
     """(f, 3) int triangles of the boundary, Tet10 faces split into 4 sub-triangles."""
     faces = mesh.corner_tets[:, TET_FACES].reshape(-1, 3)
-    _, inv, cnt = np.unique(np.sort(faces, axis=1), axis=0, return_inverse=True,
-                            return_counts=True)
-    on_b = cnt[inv.ravel()] == 1
+    on_b = single_rows(faces, mesh.n_nodes)
     if mesh.order == 1:
         return faces[on_b]
     # Local mid-edge node of each ordered corner pair of a Tet10.

@@ -7,7 +7,10 @@ from itertools import combinations
 
 import numpy as np
 
-from flexarm.fe.topology import TET10_EDGES, TET_FACES
+import pytest
+
+from flexarm.fe.structured import box_tets
+from flexarm.fe.topology import TET10_EDGES, TET_FACES, single_rows
 
 CORNERS = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
 
@@ -34,3 +37,29 @@ def test_each_edge_is_used_once_in_each_direction():
     directed = [(f[i], f[(i + 1) % 3]) for f in TET_FACES.tolist() for i in range(3)]
     assert len(set(directed)) == 12
     assert all((b, a) in directed for a, b in directed)
+
+
+def _unique_once(rows):
+    """The reference: rows whose sorted node set occurs once, by NumPy's row-wise unique."""
+    _, inverse, counts = np.unique(np.sort(rows, axis=1), axis=0, return_inverse=True,
+                                   return_counts=True)
+    return counts[inverse.ravel()] == 1
+
+
+@pytest.mark.parametrize("seed", range(10))
+@pytest.mark.parametrize("k", [2, 3])
+def test_single_rows_equals_numpys_row_unique(seed, k):
+    rows = np.random.default_rng(seed).integers(0, 12, (300, k))
+    assert np.array_equal(single_rows(rows, 12), _unique_once(rows))
+
+
+def test_single_rows_past_the_packed_key_and_on_a_box_boundary():
+    """A node count too large to pack a face into one int64 takes the lexsort path; both
+    find the boundary triangles of a structured 2x2x2 box: 6 sides of 2x2 squares, two
+    triangles each."""
+    points, tets = box_tets((1.0, 1.0, 1.0), (2, 2, 2))
+    faces = tets[:, TET_FACES].reshape(-1, 3)
+    packed, lexsorted = single_rows(faces, len(points)), single_rows(faces, 2 ** 40)
+    assert np.array_equal(packed, lexsorted) and np.array_equal(packed, _unique_once(faces))
+    assert packed.sum() == 6 * 2 * 2 * 2     # 6 sides, 2x2 squares, 2 triangles each
+    assert single_rows(np.zeros((0, 3), int), 5).shape == (0,)
