@@ -11,11 +11,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import rows
 from .material import Material
 from .mesh import TetMesh
 from .quadrature import tet_quadrature
 from .tet4 import Tet4
 from .tet10 import Tet10
+from .tolerances import tol
 from .topology import TET10_EDGES
 
 __all__ = [
@@ -26,6 +28,7 @@ __all__ = [
     "element_stiffness",
     "mass_kernel",
     "element_mass",
+    "reference_rule",
 ]
 
 
@@ -58,11 +61,14 @@ def is_affine(mesh: TetMesh) -> bool:
     """True when every element is straight-sided (Tet4, or Tet10 with mid-edge midpoints)."""
     if mesh.order == 1:
         return True
+    if rows.available():
+        dev, scale = rows.midside_deviation(mesh)
+        return bool(dev <= tol.straight_midside * scale)
     corners = mesh.points[mesh.tets[:, TET10_EDGES]]  # (m, 6, 2, 3)
     mids = mesh.points[mesh.tets[:, 4:]]
     dev = np.abs(mids - corners.mean(axis=2)).max()
     scale = np.abs(corners[:, :, 0] - corners[:, :, 1]).max()
-    return bool(dev <= 1e-12 * scale)
+    return bool(dev <= tol.straight_midside * scale)
 
 
 def _reference_gradient_products(el) -> np.ndarray:
@@ -155,6 +161,25 @@ def _reference_mass(el) -> np.ndarray:
     pts, w = tet_quadrature(el.mass_degree)
     N = el.shape(pts)
     return np.einsum("q,qa,qb->ab", w, N, N)
+
+
+def reference_rule(mesh: TetMesh) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray]:
+    """What straight-sided elements of ``mesh`` need from the reference element.
+
+    Returns ``(dN, w), N``: the reference gradients ``dN[q, a, k] = dN_a/dxi_k`` (q, nn, 3)
+    at the points of the rule that integrates the stiffness exactly, its weights (q,), and
+    ``N[a, b] = int N_a N_b`` (nn, nn) over the reference tetrahedron (volume 1/6).
+
+    Examples
+    --------
+    >>> (dN, w), N = reference_rule(TetMesh.unit_tet())
+    >>> dN.shape, round(float(N.sum()) * 6, 12)  # partition of unity: sum = volume
+    ((1, 4, 3), 1.0)
+    """
+    el = element_type(mesh)
+    pts, w = tet_quadrature(el.stiffness_degree)
+    dN = np.ascontiguousarray(el.shape_grad(pts), dtype=np.float64)
+    return (dN, np.ascontiguousarray(w, dtype=np.float64)), _reference_mass(el)
 
 
 def mass_kernel(mesh: TetMesh, rho: float, elements=slice(None), affine: bool | None = None):

@@ -177,11 +177,14 @@ volume 0.00064 m^3)
         merged.update(node_sets)
         return replace(self, node_sets=merged)
 
-    def check(self, name: str = "mesh") -> TetMesh:
-        """Raise :class:`MeshError` if empty, degenerate or inverted; return self."""
+    def check(self, name: str = "mesh", volumes: np.ndarray | None = None) -> TetMesh:
+        """Raise :class:`MeshError` if empty, degenerate or inverted; return self.
+
+        ``volumes`` are :meth:`volumes` when the caller has already computed them.
+        """
         if self.n_tets == 0:
             raise MeshError(f"{name}: the mesh has no tetrahedra")
-        vol = self.volumes()
+        vol = self.volumes() if volumes is None else volumes
         scale = np.abs(vol).mean()
         if not np.isfinite(self.points).all():
             raise MeshError(f"{name}: node coordinates contain NaN or inf")

@@ -12,6 +12,9 @@ __all__ = ["Tolerances", "tol"]
 class Tolerances:
     #: Relative volume below which a tetrahedron counts as degenerate (``|V| / mean |V|``).
     degenerate_volume: float = 1e-12
+    #: A Tet10 is straight-sided when every mid-edge node is within this fraction of the
+    #: largest corner coordinate difference of its edge's centre.
+    straight_midside: float = 1e-12
     #: Rigid-body modes: ``|omega^2|`` below this fraction of median(K_ii / M_ii) counts as zero.
     rigid_mode: float = 1e-12
     #: Eigenvalue shift for free parts, as a fraction of median(K_ii / M_ii): small, so that
