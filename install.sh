@@ -17,16 +17,22 @@ need_gl=0
 for lib in $LIBS; do
   ldconfig -p 2>/dev/null | grep -q "$lib" || need_gl=1
 done
+# the compiled assembly (flexarm/fe/_rows.c) needs a C compiler and Python's headers;
+# without them the install still succeeds and assembly runs its NumPy path
+if ! command -v cc >/dev/null 2>&1; then GL_PACKAGES="$GL_PACKAGES gcc libc6-dev"; need_gl=1; fi
+if ! python -c "import os, sys, sysconfig; sys.exit(not os.path.isfile(os.path.join(sysconfig.get_paths()['include'], 'Python.h')))"; then
+  GL_PACKAGES="$GL_PACKAGES python3-dev"; need_gl=1
+fi
 if [ "$need_gl" = 1 ] && command -v apt-get >/dev/null 2>&1; then
   SUDO=""
   if [ "$(id -u)" != 0 ]; then
     if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
-      echo "install.sh: not root and no sudo: install $GL_PACKAGES yourself for pictures" >&2
+      echo "install.sh: not root and no sudo: install $GL_PACKAGES yourself (pictures, compiled assembly)" >&2
       SUDO="skip"
     fi
   fi
   if [ "$SUDO" != "skip" ]; then
-    echo "install.sh: installing OpenGL libraries for off-screen rendering: $GL_PACKAGES"
+    echo "install.sh: installing system libraries (off-screen rendering, compiled assembly): $GL_PACKAGES"
     $SUDO apt-get update -qq
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $GL_PACKAGES >/dev/null
   fi
