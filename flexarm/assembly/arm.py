@@ -21,7 +21,7 @@ from .flexible import flexible_arm
 from .full_arm import FullFEArm, full_arm
 from .system import ArmModel
 
-__all__ = ["MODELS", "MASS_METHODS", "ArmSpec", "Arm", "build_arm"]
+__all__ = ["MODELS", "MASS_METHODS", "check_mass_method", "ArmSpec", "Arm", "build_arm"]
 
 log = logging.getLogger(__name__)
 
@@ -30,6 +30,21 @@ log = logging.getLogger(__name__)
 MODELS = ("emodel", "guyan", "cb", "full")
 #: Where E-model link mass properties come from: CAD surface integrals or tet meshes.
 MASS_METHODS = ("surface", "tets")
+
+
+def check_mass_method(mass: str) -> None:
+    """Raise ``ValueError`` unless ``mass`` is one of :data:`MASS_METHODS`.
+
+    Examples
+    --------
+    >>> check_mass_method("tets")
+    >>> check_mass_method("cad")
+    Traceback (most recent call last):
+    ...
+    ValueError: mass must be one of surface, tets, got 'cad'
+    """
+    if mass not in MASS_METHODS:
+        raise ValueError(f"mass must be one of {', '.join(MASS_METHODS)}, got '{mass}'")
 
 
 @dataclass(frozen=True)
@@ -62,8 +77,7 @@ class ArmSpec:
     def __post_init__(self) -> None:
         if self.model not in MODELS:
             raise ValueError(f"model must be one of {', '.join(MODELS)}, got '{self.model}'")
-        if self.mass not in MASS_METHODS:
-            raise ValueError(f"mass must be one of {', '.join(MASS_METHODS)}, got '{self.mass}'")
+        check_mass_method(self.mass)
 
     @property
     def label(self) -> str:

@@ -22,7 +22,8 @@ from ._numbers import count, number
 __all__ = ["COMMANDS", "command", "out", "say", "set_quiet", "wrote", "Progress",
            "add_robot_args",
            "add_flexible_args",
-           "robot_from", "arm_spec_from", "arm_from", "pose_from", "floats", "ints", "names"]
+           "robot_from", "arm_spec_from", "arm_from", "pose_from", "arm_at_pose", "floats", "ints",
+           "names"]
 
 #: ``--mesh-size`` and the like: a tet edge [m] (a bare number is metres).
 MESH_SIZE = number("length", "m", 0, 2, open_low=True)
@@ -214,6 +215,17 @@ def pose_from(robot, args):
         warnings.warn(f"--pose {args.pose}: the robot cannot take this pose ({note})",
                       stacklevel=2)
     return q
+
+
+def arm_at_pose(args):
+    """``(arm, q)``: the arm of the robot options and the joint angles [rad] of ``--pose``.
+
+    The pose is read and checked before the arm is built, so a bad ``--pose`` fails
+    before any meshing; ``args.pose`` is set to the name used (:func:`pose_from`).
+    """
+    robot = robot_from(args)
+    q = pose_from(robot, args)
+    return arm_from(args, robot), q
 
 
 def floats(text: str, what: str = "value") -> list[float]:

@@ -8,7 +8,14 @@ import dataclasses
 import os
 import warnings
 
-from ._common import add_robot_args, arm_from, command, out, pose_from, robot_from, wrote
+from ._common import (
+    add_robot_args,
+    arm_at_pose,
+    arm_from,
+    command,
+    out,
+    wrote,
+)
 from ._numbers import count, number, or_word
 
 #: Every arm analysis runs on the E-model, the flexible arm or the full-FE arm (solved
@@ -122,9 +129,7 @@ def _run_modes(args) -> int:
     from ..assembly.analyses import modes
     from ..studies.plots import write_mode_energy
 
-    robot = robot_from(args)
-    q = pose_from(robot, args)  # a bad pose fails before any meshing
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     md = modes(arm.model, q)
     # only a count the user asked for is worth a warning: the default lists what there is
     if args.n_modes is not None and args.n_modes > md.freq_hz.size:
@@ -150,9 +155,7 @@ def _add_compliance(p: argparse.ArgumentParser) -> None:
 def _run_compliance(args) -> int:
     from ..studies.compliance import compliance_report
 
-    robot = robot_from(args)
-    q = pose_from(robot, args)  # a bad pose fails before any meshing
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     rep = compliance_report(arm.model, q, args.force)
     out(rep.text())
     if args.output:
@@ -172,9 +175,7 @@ def _add_frf(p: argparse.ArgumentParser) -> None:
 def _run_frf(args) -> int:
     from ..studies.frf import frf_report
 
-    robot = robot_from(args)
-    q = pose_from(robot, args)  # a bad pose fails before any meshing
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     rep = frf_report(arm.model, q, args.fmax,
                      title=f"{arm.spec.label} TCP receptance at {args.pose}")
     out(rep.text())
@@ -204,9 +205,7 @@ def _add_map(p: argparse.ArgumentParser) -> None:
 def _run_map(args) -> int:
     from ..assembly.maps import limits_map, plot_map, write_csv, write_ratio
 
-    robot = robot_from(args)
-    q = pose_from(robot, args)  # a bad pose fails before any meshing
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     m = limits_map(arm.model, q, arm.robot.lower, arm.robot.upper,
                    args.n, frequencies=not args.no_frequencies, label=arm.spec.label,
                    pose_name=args.pose)
@@ -216,6 +215,7 @@ def _run_map(args) -> int:
         wrote([write_csv(os.path.join(args.output, "map.csv"), m)])
         wrote(plot_map(m, args.output))
         if args.model != "emodel":  # how much the flexible links soften the arm
+            robot = arm.robot
             rigid = arm_from(args, robot, "emodel")
             wrote(write_ratio(m, limits_map(rigid.model, q, robot.lower, robot.upper, args.n,
                                             frequencies=False, label=rigid.spec.label,

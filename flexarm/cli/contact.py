@@ -7,11 +7,10 @@ import dataclasses
 
 from ._common import (
     add_robot_args,
-    arm_from,
+    arm_at_pose,
     arm_spec_from,
     command,
     out,
-    pose_from,
     robot_from,
     say,
     wrote,
@@ -96,9 +95,7 @@ def _add_chatter(p: argparse.ArgumentParser) -> None:
 def _run_chatter(args) -> int:
     from ..studies.contact import run_chatter
 
-    robot = robot_from(args)
-    q = pose_from(robot, args)  # a bad pose fails before any meshing
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     st = run_chatter(arm.model, q, args.kc, args.dir, args.normal,
                      args.cnc_stiffness, args.duration)
     out(st.text())
@@ -123,9 +120,7 @@ def _add_chatter_map(p: argparse.ArgumentParser) -> None:
 def _run_chatter_map(args) -> int:
     from ..studies.contact import chatter_limits_map, write_chatter_map
 
-    robot = robot_from(args)
-    q = pose_from(robot, args)  # a bad pose fails before any meshing
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     cm = chatter_limits_map(arm.model, q, arm.robot.lower,
                             arm.robot.upper, args.n, args.dir, args.normal)
     from ..assembly.maps import grid_poses

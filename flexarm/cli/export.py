@@ -9,10 +9,10 @@ import argparse
 from ._common import (
     Progress,
     add_robot_args,
+    arm_at_pose,
     arm_from,
     command,
     out,
-    pose_from,
     robot_from,
     say,
     wrote,
@@ -45,9 +45,7 @@ def _run_export_arm(args) -> int:
     from ..studies.export_arm import export_arm, export_format
 
     fmt = export_format(args.output, args.format, args.model)  # fails before the work
-    robot = robot_from(args)
-    q = pose_from(robot, args)
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     ex = export_arm(arm, q, args.output, fmt, args.n_modes)
     out(f"{arm.spec.label} arm at {args.pose}:")
     out(ex.text())
@@ -84,9 +82,7 @@ def _run_export_exudyn(args) -> int:
         raise ValueError(f"{args.output}: the Exudyn model is written as a Python script (.py)")
     if args.self_contained or not args.no_check:
         require_exudyn()  # before the links are built
-    robot = robot_from(args)
-    q = pose_from(robot, args)
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     links = None
     if args.self_contained or not args.no_check:
         links = ffrf_links(arm, say)  # shared by the check and the files
@@ -99,7 +95,7 @@ def _run_export_exudyn(args) -> int:
     if args.self_contained:
         wrote(write_standalone(args.output, arm, q, args.pose, gravity, links))
     else:
-        wrote([write_exudyn_script(args.output, robot.name, args.robot, arm.spec, q,
+        wrote([write_exudyn_script(args.output, arm.robot.name, args.robot, arm.spec, q,
                                    args.pose, gravity)])
     return 0
 
@@ -130,9 +126,7 @@ def _run_exudyn_impulse(args) -> int:
         raise ValueError(f"--dt and --duration must satisfy 0 < dt < duration [s], got "
                          f"{args.dt:g} and {args.duration:g}")
     require_exudyn()
-    robot = robot_from(args)
-    q = pose_from(robot, args)
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     with Progress(f"Exudyn: {args.duration:g} s after a TCP pulse, step {args.dt:g} s"):
         res = impulse_test(arm, q, direction, args.n_modes, args.duration, args.dt,
                            progress=say)

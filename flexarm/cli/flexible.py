@@ -10,7 +10,7 @@ from ._common import (
     MESH_SIZE,
     add_flexible_args,
     add_robot_args,
-    arm_from,
+    arm_at_pose,
     command,
     names,
     out,
@@ -172,9 +172,7 @@ def _run_show_arm(args) -> int:
     if is_mesh and (args.ellipsoid or args.interactive):
         raise ValueError("--ellipsoid and --interactive draw pictures; a .vtu/.vtk output "
                          "holds the mode shape only")
-    robot = robot_from(args)
-    q = pose_from(robot, args)  # a bad pose fails before any meshing
-    arm = arm_from(args, robot)
+    arm, q = arm_at_pose(args)
     if is_mesh:
         path = write_arm_mode(arm, q, args.mode, args.output, args.pose, args.max_displacement)
         out(f"wrote {path}")

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..assembly.arm import MASS_METHODS, ArmSpec, build_arm
+from ..assembly.arm import ArmSpec, build_arm, check_mass_method
 from ..assembly.system import ArmModel
 from ..fe.typing import PathType
 from ..robot.description import Robot
@@ -59,8 +59,7 @@ class ValidationOptions:
     coupling: str = "rbe2"
 
     def __post_init__(self) -> None:
-        if self.mass not in MASS_METHODS:
-            raise ValueError(f"mass must be one of {', '.join(MASS_METHODS)}, got '{self.mass}'")
+        check_mass_method(self.mass)
         if self.model not in _MODELS:
             raise ValueError(f"a validation run works on the {', '.join(_MODELS)} model, got "
                              f"'{self.model}' (the full-FE model would be solved thousands of "

@@ -8,7 +8,7 @@ small helpers at the end format values back to RAPID text.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -61,17 +61,17 @@ class _ValueParser(_TokenStream):
 
     # -- expressions: numbers, strings, TRUE/FALSE, aggregates, data names, Offs, RelTool
     def expression(self) -> Any:
-        value = self.term()
-        while self.peek().text in ("+", "-"):
-            op = self.next()
-            value = self.arith(op, value, self.term())
-        return value
+        return self._left_to_right(self.term, ("+", "-"))
 
     def term(self) -> Any:
-        value = self.factor()
-        while self.peek().text in ("*", "/"):
+        return self._left_to_right(self.factor, ("*", "/"))
+
+    def _left_to_right(self, operand: Callable[[], Any], ops: tuple[str, ...]) -> Any:
+        """``operand (op operand)*`` with ``op`` in ``ops``, evaluated left to right."""
+        value = operand()
+        while self.peek().text in ops:
             op = self.next()
-            value = self.arith(op, value, self.factor())
+            value = self.arith(op, value, operand())
         return value
 
     def arith(self, op: _Tok, a: Any, b: Any) -> float:

@@ -137,10 +137,7 @@ def load(path, meshes: str = "collision", material: str = "cast_iron",
     >>> imp.placeholder_joints
     ('j1',)
     """
-    imported, notes = _read(Path(path), meshes, material, derived_dir)
-    for note in notes:
-        warnings.warn(note, stacklevel=2)
-    return imported
+    return _read_warned(path, meshes, material, derived_dir)
 
 
 def read(path, meshes: str = "collision", material: str = "cast_iron",
@@ -159,10 +156,16 @@ def read(path, meshes: str = "collision", material: str = "cast_iron",
     >>> read(folder / "r.urdf").joint_names
     ('j1',)
     """
+    return _read_warned(path, meshes, material, derived_dir).robot
+
+
+def _read_warned(path, meshes: str, material: str, derived_dir) -> UrdfImport:
+    """The import; its notes are warnings pointing at the caller of :func:`load` or
+    :func:`read`."""
     imported, notes = _read(Path(path), meshes, material, derived_dir)
     for note in notes:
-        warnings.warn(note, stacklevel=2)
-    return imported.robot
+        warnings.warn(note, stacklevel=3)
+    return imported
 
 
 def _read(path: Path, meshes: str, material: str, derived_dir) -> tuple[UrdfImport, list[str]]:

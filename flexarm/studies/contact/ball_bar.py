@@ -96,6 +96,29 @@ class CircleSetup:
         d = self.points - self.pivot
         return d / np.linalg.norm(d, axis=1, keepdims=True)
 
+    def along_bar(self, vectors: ArrayLike) -> FloatArray:
+        """Components of vectors at the path samples along the bar (the ball-bar reading).
+
+        Parameters
+        ----------
+        vectors : (..., n, 3) float
+            A vector per path sample [m], base frame (e.g. load-point deviations).
+
+        Returns
+        -------
+        (..., n) float
+            Change of the bar length [m]; + lengthens the bar.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> setup = CircleSetup("c", None, np.array([[1.0, 0, 0], [0, 2.0, 0]]), np.zeros(3),
+        ...                     np.zeros(3), np.array([0, 0, 1.0]), 1.0)  # the bar alone, no IK
+        >>> setup.along_bar([[0.5, 0.1, 0.0], [0.3, -0.2, 0.0]]).tolist()
+        [0.5, -0.2]
+        """
+        return np.einsum("...ni,ni->...n", np.asarray(vectors, dtype=float), self.bar_dirs)
+
     @property
     def bar_length(self) -> FloatArray:
         """(n,) pivot-to-load-point distance [m]."""
@@ -256,7 +279,7 @@ class CirclePrediction:
     @property
     def bar(self) -> FloatArray:
         """(k, n) change of the bar length [m] (ball-bar reading)."""
-        return np.einsum("kni,ni->kn", self.deviation, self.setup.bar_dirs)
+        return self.setup.along_bar(self.deviation)
 
     @property
     def radial(self) -> FloatArray:

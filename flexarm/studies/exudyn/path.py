@@ -72,12 +72,12 @@ class PathRun:
     @property
     def bar(self) -> FloatArray:
         """(n,) bar-length change [m]: Exudyn."""
-        return np.einsum("ni,ni->n", self.deviation, self.setup.bar_dirs)
+        return self.setup.along_bar(self.deviation)
 
     @property
     def bar_static(self) -> FloatArray:
         """(n,) bar-length change [m]: quasi-static."""
-        return np.einsum("ni,ni->n", self.quasi_static, self.setup.bar_dirs)
+        return self.setup.along_bar(self.quasi_static)
 
     @property
     def error(self) -> float:

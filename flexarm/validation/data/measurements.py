@@ -225,6 +225,10 @@ class _Posed(_Arrays):
         """Number of distinct poses."""
         return len(np.unique(self.poses))
 
+    def _poses_text(self) -> str:
+        """``"2 poses P1, P2"``: the count and labels of the poses, for a ``repr``."""
+        return f"{self.n_poses} pose{'s' * (self.n_poses != 1)} {names(self.pose_labels())}"
+
 
 @dataclass(frozen=True, eq=False)
 class ModalData(_Posed):
@@ -277,8 +281,7 @@ class ModalData(_Posed):
     def __repr__(self) -> str:
         zeta = self.damping_ratio
         damping = "" if zeta is None else f", damping {span(zeta * 100, '%', '{:.3g}')}"
-        return (f"{type(self).__name__}({self.n_rows} modes at {self.n_poses} "
-                f"pose{'s' * (self.n_poses != 1)} {names(self.pose_labels())}, modes "
+        return (f"{type(self).__name__}({self.n_rows} modes at {self._poses_text()}, modes "
                 f"{span(self.modes, fmt='{:.0f}')}, {span(self.freq_hz, 'Hz')}{damping})")
 
 
@@ -351,8 +354,8 @@ class FrfData(_Posed):
                                                           self.outputs.tolist(), strict=True))
         h = np.abs(self.receptance).max(initial=0.0)
         return (f"FrfData({self.n_rows} frequency line{'s' * (self.n_rows != 1)} at "
-                f"{self.n_poses} pose{'s' * (self.n_poses != 1)} {names(self.pose_labels())}, "
-                f"paths {names(paths)}, {span(self.freq_hz, 'Hz')}, |H| up to {h:.3g} m/N)")
+                f"{self._poses_text()}, paths {names(paths)}, {span(self.freq_hz, 'Hz')}, "
+                f"|H| up to {h:.3g} m/N)")
 
 
 @dataclass(frozen=True, eq=False)

@@ -26,36 +26,52 @@ def _switch_loads(problem, joint: int) -> str:
     return ", ".join(parts[:4]) + (" ..." if len(parts) > 4 else "")
 
 
+def _mrad(theta, se) -> str:
+    """``"0.200 ± 0.010 mrad"``: a fitted angle [rad] and its standard error in mrad."""
+    return f"{theta[0] * 1e3:.3f} ± {se[0] * 1e3:.3f} mrad"
+
+
+def _compliance(theta, se) -> str:
+    """``"2e-07 ± 1e-08 rad/(N m)"``: a fitted compliance and its standard error."""
+    return f"{theta[0]:.3g} ± {se[0]:.2g} rad/(N m)"
+
+
+def _tilt(theta, se) -> str:
+    """A fitted tilt compliance [rad/(N m)], its standard error and its stiffness."""
+    return f"tilt compliance {_compliance(theta, se)} (stiffness {1 / theta[0]:.3g} N m/rad)"
+
+
+def _angles_deg(problem, joint: int) -> np.ndarray:
+    """Distinct angles [deg] of a 0-based joint over the series' reference readings."""
+    return np.degrees(np.unique(np.round(problem.data.q[problem.ref, joint], 6)))
+
+
 def explain(problem, cand, effect, theta, se) -> str:
     """A sentence a user understands, with the fitted size and where the data show it."""
     j = cand.joint
     if cand.kind == "backlash":
-        return (f"joint {j + 1} backlash of {theta[0] * 1e3:.3f} ± {se[0] * 1e3:.3f} mrad: "
+        return (f"joint {j + 1} backlash of {_mrad(theta, se)}: "
                 f"residuals jump where joint {j + 1} torque changes sign at "
                 f"{_switch_loads(problem, j)}")
     if cand.kind == "hardening":
         k2 = problem.arm.joints[j].torsion
         ratio = 1 / (1 + theta[0] * k2)
         return (f"joint {j + 1} stiffens with load: K1 = {ratio:.2f} K2 below "
-                f"{effect.get('threshold'):.0f} N m (extra compliance {theta[0]:.3g} ± "
-                f"{se[0]:.2g} rad/(N m)): deflection grows faster than linear at low load "
+                f"{effect.get('threshold'):.0f} N m (extra compliance "
+                f"{_compliance(theta, se)}): deflection grows faster than linear at low load "
                 f"and straightens above")
     if cand.kind == "hysteresis":
-        return (f"joint {j + 1} lost motion of {theta[0] * 1e3:.3f} ± {se[0] * 1e3:.3f} mrad "
+        return (f"joint {j + 1} lost motion of {_mrad(theta, se)} "
                 f"(friction torque {effect.get('radius'):.0f} N m): unloading curves lie off "
                 f"the loading curves once the load reverses")
     if cand.kind == "tilt":
-        return (f"joint {j + 1} bearing tilt compliance {theta[0]:.3g} ± {se[0]:.2g} rad/(N m) "
-                f"(stiffness {1 / theta[0]:.3g} N m/rad): deflections perpendicular to the "
+        return (f"joint {j + 1} bearing {_tilt(theta, se)}: deflections perpendicular to the "
                 f"joint-{j + 1} rotation are larger than the gear alone explains")
     if cand.kind == "base":
-        return (f"base (foundation) tilt compliance {theta[0]:.3g} ± {se[0]:.2g} rad/(N m) "
-                f"(stiffness {1 / theta[0]:.3g} N m/rad): the whole arm tips about the floor "
+        return (f"base (foundation) {_tilt(theta, se)}: the whole arm tips about the floor "
                 f"by the moment of the load about the base")
     if cand.kind == "wrist":
-        names = [k for k, v in effect.params if v != 0] or list(cand.amplitudes)
-        vals = ", ".join(f"{a} = {t:.3g} ± {s:.2g}"
-                         for a, t, s in zip(names, theta, se, strict=False))
+        vals = _pairs(effect, theta, se, "", cand.amplitudes)
         return (f"coupled wrist: joints 4-6 share compliance ({vals} rad/(N m)): a torque on "
                 f"one wrist joint also turns the others")
     if cand.kind == "links":
@@ -68,9 +84,11 @@ def explain(problem, cand, effect, theta, se) -> str:
     return f"{cand.label}: {theta}"
 
 
-def _pairs(effect, theta, se, unit: str, scale: float = 1.0) -> str:
-    names = [k for k, v in effect.params if v != 0]
-    return ", ".join(f"{a} = {t * scale:.3g} ± {s * scale:.2g}{unit}"
+def _pairs(effect, theta, se, unit: str, fallback=()) -> str:
+    """``"a = 1e-06 ± 2e-08 unit, ..."``: the fitted values of the effect's non-zero
+    parameters (``fallback`` names them when none is non-zero)."""
+    names = [k for k, v in effect.params if v != 0] or list(fallback)
+    return ", ".join(f"{a} = {t:.3g} ± {s:.2g}{unit}"
                      for a, t, s in zip(names, theta, se, strict=False))
 
 
@@ -85,7 +103,7 @@ def _explain_measurement(problem, cand, effect, theta, se) -> str:
                 f"deflection is turned alike (a tracker alignment error, not the robot; not "
                 f"written to the robot file)")
     j = cand.joint
-    qs = np.degrees(np.unique(np.round(problem.data.q[problem.ref, j], 6)))
+    qs = _angles_deg(problem, j)
     return (f"joint {j + 1} gravity balancer: stiffness kc cos q{j + 1} + ks sin q{j + 1} in "
             f"parallel with the gear ({_pairs(effect, theta, se, '')} N m/rad): joint "
             f"{j + 1}'s compliance changes with its angle across the series at q{j + 1} = "
@@ -128,7 +146,7 @@ def _balancer_note(problem) -> str:
     if problem is None or problem.arm.chain.n_joints < 2:
         return ("joint-2 gravity balancer: a q2-dependent stiffness needs series at "
                 "several q2")
-    q2 = np.degrees(np.unique(np.round(problem.data.q[problem.ref, 1], 6)))
+    q2 = _angles_deg(problem, 1)
     listed = ", ".join(f"{v:.0f}" for v in q2)
     if len(q2) >= 3:
         return (f"joint-2 gravity balancer: tested as a candidate (series at q2 = {listed} "

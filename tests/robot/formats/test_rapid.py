@@ -355,3 +355,11 @@ def test_many_procedures_share_module_data_and_shadow_it(tmp_path):
     assert len(mod.procedures) == 400
     assert mod.procedures["r7"].motions[0].to_point.pos_mm[0] == 7.0  # its own p1
     assert mod.procedures["s7"].motions[0].to_point.pos_mm.tolist() == [1000, 0, 500]
+
+
+def test_arithmetic_runs_left_to_right_and_products_first(tmp_path):
+    # 10-2-3 = 5 (not 11), 8/2/2 = 2 (not 8), 2*3-4/2 = 4, -2*-3 = 6
+    path = _module(tmp_path, "PROC main()\n  MoveL Offs(p1, 10-2-3, 8/2/2, 2*3-4/2+-2*-3), "
+                             "v10, fine, tool0;\nENDPROC\n")
+    (motion,) = read_rapid(path).procedures["main"].motions
+    assert motion.to_point.pos_mm.tolist() == [1005.0, 2.0, 510.0]

@@ -71,3 +71,16 @@ def test_measured_overlay_relative_to_zero_load(setup30):
         np.r_[np.zeros(len(P)), np.full(len(P), 400.0)])
     assert np.allclose(bar[len(P):], 3e-4, atol=1e-7)
     assert np.allclose(bar[:len(P)], 0.0, atol=1e-12)
+
+
+def test_along_bar_is_the_dot_product_with_each_bar_direction(setup30):
+    rng = np.random.default_rng(3)
+    n = len(setup30.points)
+    v = rng.normal(size=(2, n, 3))
+    u = setup30.points - setup30.pivot
+    u /= np.linalg.norm(u, axis=1)[:, None]
+    dots = [[float(v[k, i] @ u[i]) for i in range(n)] for k in range(2)]
+    # unit directions and O(1) vectors: the sums of three products agree to round-off
+    assert np.allclose(setup30.along_bar(v), dots, rtol=0, atol=1e-14)
+    assert np.allclose(setup30.along_bar(v[1]), dots[1], rtol=0, atol=1e-14)  # one vector each
+    assert np.allclose(setup30.along_bar(-3.0 * setup30.bar_dirs), -3.0, rtol=0, atol=1e-14)

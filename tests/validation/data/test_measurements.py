@@ -733,3 +733,13 @@ def test_repr_of_the_shipped_lab_campaign_is_short():
 
     text = repr(read_measurements(files("flexarm") / "data" / "lab" / "lab_hidden_effect.csv"))
     assert len(text) < 300 and text.startswith("StaticData(162 readings, 18 series")
+
+
+def test_reprs_count_the_poses_in_order_of_appearance():
+    z = np.zeros(6)
+    one = ModalData(poses=["P1"], q=[z], modes=[1], freq_hz=[8.0])
+    assert repr(one) == "ModalData(1 modes at 1 pose P1, modes 1, 8 Hz)"
+    frf = FrfData(poses=["P2", "P1"], q=[z, z], inputs=["x", "x"], outputs=["x", "y"],
+                  freq_hz=[1.0, 2.0], receptance=[1e-6, 2e-7j])
+    assert repr(frf) == ("FrfData(2 frequency lines at 2 poses P2, P1, paths x->x, x->y, "
+                         "1–2 Hz, |H| up to 1e-06 m/N)")
