@@ -11,8 +11,9 @@ __all__ = ["RobotBuild", "builds_text"]
 def builds_text(builds) -> str:
     """Table of built links: mesher, tets, FE DOF, reduced DOF (``rigid`` for a rigid
     base), meshing and build time [s] (``cache`` when the superelement was read from the
-    cache) and the first fixed-interface frequencies [Hz]; a ``*`` marks fTetWild meshes
-    made under ``model.mesher = "auto"`` (dirty CAD), each explained below the table."""
+    cache) and the first fixed-interface frequencies [Hz]; a ``*`` marks the fallbacks of
+    ``model.mesher = "auto"`` (fTetWild on dirty CAD, Gmsh without its remesh), each
+    explained below the table."""
     lines = [f"{'link':<14} {'mesher':<9} {'tets':>7} {'DOF':>7} {'reduced':>7} {'mesh_s':>7} "
              f"{'build_s':>7}  fixed-interface f [Hz]"]
     notes = []
@@ -24,9 +25,11 @@ def builds_text(builds) -> str:
         mesh_s = f"{lb.mesh_seconds:7.1f}" if lb.mesher else "-"
         lines.append(f"{lb.name:<14} {mesher:<9} {lb.n_tets:>7} {lb.n_fe_dofs:>7} {kind:>7} "
                      f"{mesh_s:>7} {src:>7}  {f}")
-        if lb.mesher_note:
+        if lb.mesher_note and lb.mesher == "tetwild":
             notes.append(f"* {lb.name}: fTetWild, as {lb.mesher_note} (not reproducible "
                          f"between fresh caches)")
+        elif lb.mesher_note:  # Gmsh without its remesh of the surface
+            notes.append(f"* {lb.name}: {lb.mesher}, {lb.mesher_note}")
     return "\n".join(lines + notes)
 
 

@@ -6,7 +6,8 @@ gives the same model: Gmsh on a closed, consistently wound surface (one whose sh
 touch or cross each other is replaced by the surface of its union:
 :mod:`.self_intersections`); fTetWild only for dirty CAD (an open or inconsistently
 wound surface, one whose union cannot be formed, or a surface Gmsh fails on), with the
-reason in :attr:`SurfaceMesh.note`.
+reason in :attr:`SurfaceMesh.note`, where Gmsh meshing the volume on its pre-mesh (no
+remesh of the surface) is named too.
 
 Under ``"auto"`` the choice is kept in the package cache (``mesher-choice``) with the key
 of the mesh it gave, so a warm run neither checks the surface nor meshes again.
@@ -25,7 +26,7 @@ import numpy as np
 from ..fe.cache import cache_key, cached
 from ..fe.errors import MeshError, MissingDependencyError
 from ..fe.mesh import TetMesh
-from .gmsh_mesher import tetrahedralize_gmsh
+from .gmsh_mesher import _gmsh_mesh, tetrahedralize_gmsh
 from .local_size import LocalSize, local_sizes_key
 from .self_intersections import united_surface
 from .tet_cache import (
@@ -68,7 +69,8 @@ class SurfaceMesh:
     mesher : {"gmsh", "tetwild"}
         The tetrahedraliser that made it.
     note : str
-        Why ``"auto"`` fell back to fTetWild (empty otherwise).
+        The fallback ``"auto"`` took: why fTetWild meshed the surface, or how Gmsh did
+        without remeshing it (empty otherwise).
     seconds : float
         Wall time of this call [s] (reading the cache included).
     is_cached : bool
@@ -133,15 +135,16 @@ def _auto(surface, size, optimize, order, cache, name, progress,
         from .gmsh_model import gmsh_settings
 
         try:
-            mesh = tetrahedralize_gmsh(clean, size, optimize, order, cache, name, progress,
-                                       local)
+            mesh, fallback = _gmsh_mesh(clean, size, optimize, order, cache, name, progress,
+                                        local)
         except MeshError as exc:  # "<name>: gmsh failed (...); try mesher='tetwild'"
             why = str(exc).removeprefix(f"{name}: ")
             for advice in ("; try mesher='tetwild'", " (try mesher='tetwild')"):
                 why = why.replace(advice, "")
             note = why if why.startswith("gmsh") else f"gmsh failed: {why}"
         else:
-            return mesh, "gmsh", "", tet_cache_key(clean.vertices, clean.faces, size, optimize,
+            note = f"the {fallback}" if fallback else ""
+            return mesh, "gmsh", note, tet_cache_key(clean.vertices, clean.faces, size, optimize,
                                                    order, mesher="gmsh",
                                                    settings=gmsh_settings()
                                                    + local_sizes_key(local))

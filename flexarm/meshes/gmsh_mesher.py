@@ -21,6 +21,15 @@ the pre-mesh fractions in ``PREMESH_FRACTIONS`` are tried in turn (a fixed ladde
 still deterministic).  If all fail, the volume is meshed on the first pre-mesh
 surface itself: exact planar facets, but finer near curved faces.
 
+On some clean surfaces Gmsh's remesh never returns (the UR10's base_link at a 30 mm
+edge; 1.3 s at 20 mm), so every try runs in a child process
+(:func:`~flexarm.fe.processes.run_child`) with a CPU-time budget that grows with the
+elements it makes (:func:`try_cpu_seconds`): a try that spends it is stopped and counts
+as failed, and the next rung runs.  The budget is no part of the cache key: it is set
+well above the time of any try that finishes, and a try either finishes within it, giving
+the mesh it always gave, or never finishes.  Each try costs the child's start (about a
+second of imports).
+
 Limits (measured on the demo arm at 20-30 mm edges): the mesh conforms to the
 CAD, so knife edges and CAD features smaller than the edge length leave a few flat
 elements (logged, not refused: a rerun gives the same mesh); curved faces are
@@ -44,8 +53,9 @@ from collections.abc import Callable
 
 import numpy as np
 
-from ..fe.errors import MeshError
+from ..fe.errors import FlexarmError, MeshError
 from ..fe.mesh import TetMesh
+from ..fe.processes import ChildTimeout, run_child
 from ..fe.tolerances import tol as fe_tol
 from .gmsh_model import (
     _OPTIMIZE_OPTIONS,
@@ -64,12 +74,13 @@ from .gmsh_model import (
 )
 from .local_size import LocalSize, local_sizes_key, size_callback
 from .quality import dihedral_angles
-from .tet_cache import cached_tetrahedralization
+from .tet_cache import cached_tetrahedralization, estimated_tets
 from .tetwild import _compact
 from .tolerances import tol
 
 __all__ = [
     "tetrahedralize_gmsh",
+    "try_cpu_seconds",
     "gmsh_settings",
     "FEATURE_ANGLE_DEG",
     "PREMESH_FRACTIONS",
@@ -164,38 +175,111 @@ def _oriented(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndar
     return points, tets
 
 
-def _run(gmsh, surface, size: float, optimize: bool, name: str, report: Progress,
-         local: tuple = ()) -> TetMesh:
-    """The first pre-mesh fraction whose remesh works, else the volume on the pre-mesh.
+#: The last try of :func:`_run`: no remesh of the surface.
+_PREMESH = "volume on the pre-mesh"
+#: The tries of :func:`_run`, by name (a child process calls them by name).
+_ATTEMPTS = {"remesh": _remeshed, _PREMESH: _on_premesh}
 
-    With ``local`` sizes a try that gives zero-volume elements counts as failed too: the
-    grading from a fine seat to the coarse edge can flatten one (the M-20iA's link_6 at
-    80 mm), and the next pre-mesh is as deterministic as the first."""
+
+def _gmsh_try(how: str, vertices, faces, labels, size, fraction, optimize, local):
+    """One try of :func:`_run`, run in a child process: its nodes and tetrahedra."""
+    return _ATTEMPTS[how](_import_gmsh(), vertices, faces, labels, size, fraction, optimize,
+                          local)
+
+
+def try_cpu_seconds(surface, size: float, fraction: float) -> float:
+    """CPU time [s] one Gmsh try on ``surface`` may take: ``tol.gmsh_try_cpu_floor`` plus
+    ``tol.gmsh_try_cpu_per_element`` per element it makes (the CAD triangles, the pre-mesh
+    triangles at ``fraction * size`` and the tetrahedra at ``size`` [m]).
+
+    Examples
+    --------
+    >>> import trimesh
+    >>> round(try_cpu_seconds(trimesh.creation.box((0.4, 0.2, 0.1)), 0.02, 0.5))
+    207
+    """
+    premesh = 4.0 / np.sqrt(3.0) * float(surface.area) / (fraction * size) ** 2
+    n = len(surface.faces) + premesh + estimated_tets(abs(float(surface.volume)), size)
+    return tol.gmsh_try_cpu_floor + tol.gmsh_try_cpu_per_element * n
+
+
+def _run(surface, size: float, optimize: bool, name: str, report: Progress,
+         local: tuple = ()) -> tuple[TetMesh, str]:
+    """The first pre-mesh fraction whose remesh works, else the volume on the pre-mesh;
+    and ``""``, or the fallback taken and why.
+
+    Each try runs in a child process with :func:`try_cpu_seconds`: one that spends them
+    (or whose process dies) has failed like one Gmsh refuses.  With ``local`` sizes a try
+    that gives zero-volume elements counts as failed too: the grading from a fine seat to
+    the coarse edge can flatten one (the M-20iA's link_6 at 80 mm), and the next pre-mesh
+    is as deterministic as the first.  The volume on the pre-mesh fails with a single
+    sliver: the pre-mesh keeps every CAD triangle of a curved face (a level-set cavity's
+    thousands), and fTetWild meshes such a surface better (the UR10's upper arm: 8,695
+    slivers in 78,405 tetrahedra)."""
     vertices = np.asarray(surface.vertices, dtype=np.float64)
     faces = np.asarray(surface.faces, dtype=np.int64)
     labels = _facet_labels(surface)
-    tries = [(_remeshed, f) for f in PREMESH_FRACTIONS] + [(_on_premesh, PREMESH_FRACTIONS[0])]
+    tries = [("remesh", f) for f in PREMESH_FRACTIONS] + [(_PREMESH, PREMESH_FRACTIONS[0])]
     failures = []
-    for i, (attempt, fraction) in enumerate(tries, start=1):
-        how = "remesh" if attempt is _remeshed else "volume on the pre-mesh"
-        report(f"{name}: gmsh try {i}/{len(tries)}: {how} (pre-mesh edge {fraction * size:.3g} m)")
+    for i, (how, fraction) in enumerate(tries, start=1):
+        budget = try_cpu_seconds(surface, size, fraction)
+        report(f"{name}: gmsh try {i}/{len(tries)}: {how} (pre-mesh edge {fraction * size:.3g} "
+               f"m, at most {budget:.0f} CPU-s)")
+        spent = _children_cpu()
         try:
-            points, tets = attempt(gmsh, vertices, faces, labels, size, fraction, optimize,
-                                   local)
-            problem = _defects(TetMesh(*_oriented(points, tets)))[0] if local else None
-            if problem is not None:
-                raise _GmshFailed(f"{problem} with local sizes")
-        except _GmshFailed as exc:
-            logger.info("%s: gmsh try %d (%s) failed: %s", name, i, how, exc)
-            failures.append(f"try {i}: {exc}")
+            points, tets = run_child(_gmsh_try, (how, vertices, faces, labels, size, fraction,
+                                                 optimize, local),
+                                     cpu_seconds=budget, name=f"{name}: gmsh try {i}")
+            logger.info("%s: gmsh try %d took %.1f CPU-s of %.0f", name, i,
+                        _children_cpu() - spent, budget)
+            mesh = TetMesh(*_oriented(points, tets))
+            if local or how == _PREMESH:
+                problem, n_slivers, _ = _defects(mesh)
+                if problem is not None and local:
+                    raise _GmshFailed(f"{problem} with local sizes")
+                if how == _PREMESH and (problem or n_slivers):
+                    raise _GmshFailed(problem or f"{n_slivers} sliver tetrahedra")
+        except (_GmshFailed, ChildTimeout, FlexarmError) as exc:
+            why = str(exc).removeprefix(f"{name}: gmsh try {i}: ")
+            if isinstance(exc, ChildTimeout):
+                why = f"no answer in {budget:.0f} CPU-s"
+            logger.info("%s: gmsh try %d (%s) failed: %s", name, i, how, why)
+            failures.append(why)
             continue
-        if attempt is _on_premesh:
-            logger.warning("%s: gmsh meshed the volume on the pre-mesh surface (%s)", name,
-                           "; ".join(failures))
+        fallback = ""
+        if how == _PREMESH:
+            fallback = f"{how} surface ({_tries_text(failures)})"
+            logger.warning("%s: gmsh meshed the %s", name, fallback)
         elif i > 1:
             logger.info("%s: gmsh needed try %d", name, i)
-        return TetMesh(*_oriented(points, tets))
-    raise MeshError(f"{name}: gmsh failed ({'; '.join(failures)}); try mesher='tetwild'")
+        return mesh, fallback
+    raise MeshError(f"{name}: gmsh failed ({_tries_text(failures)}); try mesher='tetwild'")
+
+
+def _children_cpu() -> float:
+    """CPU time [s] of this process's ended children (POSIX; elsewhere 0)."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - not POSIX
+        return 0.0
+    return sum(resource.getrusage(resource.RUSAGE_CHILDREN)[:2])
+
+
+def _tries_text(failures: list[str]) -> str:
+    """"tries 1-3: why; try 4: why": the failure of each try, the same ones once.
+
+    Examples
+    --------
+    >>> _tries_text(["Wrong topology", "Wrong topology", "2 sliver tetrahedra"])
+    'tries 1-2: Wrong topology; try 3: 2 sliver tetrahedra'
+    """
+    parts, first = [], 0
+    for i in range(1, len(failures) + 1):
+        if i == len(failures) or failures[i] != failures[first]:
+            tries = f"try {i}" if i == first + 1 else f"tries {first + 1}-{i}"
+            parts.append(f"{tries}: {failures[first]}")
+            first = i
+    return "; ".join(parts)
 
 
 def _defects(mesh: TetMesh) -> tuple[str | None, int, float]:
@@ -267,16 +351,24 @@ def tetrahedralize_gmsh(
     >>> round(float(mesh.volumes().sum()), 12), bool((mesh.volumes() > 0).all())
     (0.001, True)
     """
+    return _gmsh_mesh(surface, size, optimize, order, cache, name, progress, local_sizes)[0]
+
+
+def _gmsh_mesh(surface, size, optimize=True, order=1, cache=True, name="surface",
+               progress=None, local_sizes=()) -> tuple[TetMesh, str]:
+    """:func:`tetrahedralize_gmsh`, and the fallback its tries took and why (``""`` for
+    the remesh, and for a mesh read from the cache)."""
     if len(surface.faces) == 0 or not surface.is_watertight:
         raise MeshError(f"{name}: the surface is not closed (gmsh needs a watertight surface)")
-    gmsh = _import_gmsh()
+    _import_gmsh()  # here: a missing gmsh says so before any child starts
     local = tuple(local_sizes)
+    taken = {"fallback": ""}
 
     def make(vertices, faces, report):
         logger.info("gmsh tetrahedralizing %s: %d faces, edge %.4g m", name, len(faces), size)
         report(f"{name}: gmsh tetrahedralizing (edge {size:.4g} m, optimize={bool(optimize)})")
         start = time.perf_counter()
-        mesh = _run(gmsh, surface, float(size), optimize, name, report, local)
+        mesh, taken["fallback"] = _run(surface, float(size), optimize, name, report, local)
         problem, n_slivers, min_angle = _defects(mesh)
         if problem is not None:
             raise MeshError(f"{name}: gmsh gave {problem} (try mesher='tetwild')")
@@ -286,6 +378,7 @@ def tetrahedralize_gmsh(
         logger.info("%s: gmsh took %.1f s", name, time.perf_counter() - start)
         return mesh
 
-    return cached_tetrahedralization(surface, size, optimize, order, cache, name, progress, make,
-                                     mesher="gmsh",
+    mesh = cached_tetrahedralization(surface, size, optimize, order, cache, name, progress,
+                                     make, mesher="gmsh",
                                      settings=gmsh_settings() + local_sizes_key(local))
+    return mesh, taken["fallback"]

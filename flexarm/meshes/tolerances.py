@@ -18,6 +18,14 @@ class Tolerances:
     surface_min_volume: float = 1e-9
     #: Tetrahedra with a dihedral angle below this [deg] are slivers (the mesher retries).
     sliver_dihedral_deg: float = 5.0
+    #: Gmsh: CPU time [s] every meshing try may take in its child process before it is
+    #: stopped and the next try runs (Gmsh's remesh of some clean surfaces never returns) ...
+    gmsh_try_cpu_floor: float = 20.0
+    #: ... plus this many CPU seconds per element the try makes (the CAD's and the
+    #: pre-mesh's triangles, the volume's tetrahedra): ten times Gmsh's 1.25 ms
+    #: (``TETS_PER_SECOND``); the M-20iA's links at 30 mm take 2.7-13.8 CPU-s, 7.8 to 51
+    #: times less than their budgets of 35-277 CPU-s (child start included, 2026-11-27).
+    gmsh_try_cpu_per_element: float = 0.0125
     #: pytetwild envelope: allowed surface deviation / bounding-box diagonal.
     tet_envelope: float = 1e-3
     #: ``|V_tets - V_surface| / V_surface`` above which tetrahedralisation logs a warning.

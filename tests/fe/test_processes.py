@@ -103,3 +103,90 @@ def test_ctrl_c_stops_the_workers_and_leaves_nothing_half_written(tmp_path):
     # no output file at all: only the temporary files of the two writes
     assert not (tmp_path / "a.txt").exists() and not (tmp_path / "b.txt").exists()
     assert all(p.name.startswith(".") and ".part" in p.name for p in tmp_path.iterdir())
+
+
+# --- one call in a child process, with a CPU-time limit -------------------------------
+def spins(seconds: float, progress=None) -> int:
+    """Busy for ``seconds`` of CPU time, then the child's process id; warns once."""
+    start = time.process_time()
+    while time.process_time() - start < seconds:
+        pass
+    warnings.warn("spun", UserWarning, stacklevel=1)
+    return os.getpid()
+
+
+def spins_in_a_child(path: str, progress=None) -> None:
+    """Say the child's id (in ``path``), then run a child that never ends."""
+    from flexarm.fe.processes import run_child
+
+    run_child(_spins_and_tells, (path,), cpu_seconds=3600)
+
+
+def _spins_and_tells(path: str) -> None:
+    Path(path).write_text(str(os.getpid()))
+    spins(3600)
+
+
+def test_a_child_answers_and_its_warnings_and_errors_come_here():
+    from flexarm.fe.processes import run_child
+
+    with pytest.warns(UserWarning, match="spun"):
+        pid = run_child(spins, (0.01,), cpu_seconds=60)
+    assert pid != os.getpid()
+    with pytest.raises(ValueError, match="links.two: no mesh"):
+        run_child(fails_on_two, (2,))
+
+
+def test_a_child_over_its_cpu_budget_is_stopped():
+    """One CPU-s of budget against an hour of work: stopped by the kernel (SIGXCPU)."""
+    from flexarm.fe.processes import ChildTimeout, run_child
+
+    with pytest.raises(ChildTimeout, match=r"^spin: stopped after 1 CPU-s$"):
+        run_child(spins, (3600,), cpu_seconds=1, name="spin")
+
+
+def _wait_for_pid(path: Path, parent: subprocess.Popen) -> int:
+    while not path.exists() or not path.read_text():  # a state, not a time
+        assert parent.poll() is None, parent.stderr.read()
+        time.sleep(0.05)
+    return int(path.read_text())
+
+
+def _is_gone(pid: int) -> bool:
+    """True once ``pid`` has ended (a zombie of a living parent counts as ended)."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().split(")")[-1].split()[0] == "Z"
+    except FileNotFoundError:
+        return True
+
+
+@pytest.mark.parametrize("how", ["ctrl-c", "worker stopped"])
+def test_the_child_ends_with_its_caller(tmp_path, how):
+    """Ctrl-C in the caller stops the child before the KeyboardInterrupt goes on; a caller
+    that is itself a stopped pool worker leaves no child behind."""
+    tell = tmp_path / "child.pid"
+    if how == "ctrl-c":
+        call = (f"run_child(_spins_and_tells, (r'{tell}',), cpu_seconds=3600)")
+    else:
+        call = (f"run_jobs(spins_in_a_child, [(r'{tell}',), (r'{tmp_path / 'b'}',)], jobs=2)")
+    script = (
+        "import signal, sys\n"
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+        "from flexarm.fe.processes import run_child, run_jobs\n"
+        "from tests.fe.test_processes import _spins_and_tells, spins_in_a_child\n"
+        "try:\n"
+        f"    {call}\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', flush=True)\n"
+        "    sys.exit(130)\n")
+    parent = subprocess.Popen([sys.executable, "-c", script], cwd=ROOT, text=True,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    child = _wait_for_pid(tell, parent)
+    parent.send_signal(signal.SIGINT)
+    out, err = parent.communicate(timeout=120)
+    assert parent.returncode == 130 and out.strip() == "interrupted", err
+    deadline = time.monotonic() + 120
+    while not _is_gone(child) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert _is_gone(child)

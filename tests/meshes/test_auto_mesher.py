@@ -36,7 +36,7 @@ def test_a_clean_closed_surface_goes_to_gmsh_and_is_cached_with_its_choice(bar, 
     assert float(first.mesh.volumes().sum()) == pytest.approx(1e-3, rel=1e-12)
     # a warm call reads the choice and the mesh: no surface check, no meshing
     monkeypatch.setattr(auto_mesher, "united_surface", None)
-    monkeypatch.setattr(auto_mesher, "tetrahedralize_gmsh", None)
+    monkeypatch.setattr(auto_mesher, "_gmsh_mesh", None)
     again = mesh_surface(bar, EDGE, name="bar")
     assert again.is_cached and again.mesher == "gmsh"
     np.testing.assert_array_equal(again.mesh.points, first.mesh.points)
@@ -74,7 +74,7 @@ def test_a_gmsh_failure_falls_back_to_tetwild(bar, monkeypatch):
     def fails(surface, size, *args, **kwargs):
         raise MeshError("bar: gmsh failed (try 1: PLC Error); try mesher='tetwild'")
 
-    monkeypatch.setattr(auto_mesher, "tetrahedralize_gmsh", fails)
+    monkeypatch.setattr(auto_mesher, "_gmsh_mesh", fails)
     with pytest.warns(UserWarning, match=r"bar: meshed by fTetWild \(gmsh failed \(try 1: "
                                          r"PLC Error\)\): not reproducible"):
         made = mesh_surface(bar, EDGE, name="bar")

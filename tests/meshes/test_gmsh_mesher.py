@@ -151,3 +151,93 @@ def test_mesher_setting_through_mesh_part_and_cli(tmp_path):
     assert main(["mesh", str(path), "--units", "mm", "--size", "0.03", "--mesher", "gmsh",
                  "--no-cache", "-o", str(out)]) == 0
     assert out.is_file()
+
+
+# --- each try in a child process with a CPU-time budget --------------------------------
+def _stalls_on(stalled: set[int], monkeypatch) -> list[float]:
+    """Make the tries numbered ``stalled`` spend their budget (as a Gmsh remesh that never
+    returns does); the budgets given to every try, in order."""
+    from flexarm.fe.processes import ChildTimeout, run_child
+    from flexarm.meshes import gmsh_mesher
+
+    budgets = []
+
+    def child(function, args, cpu_seconds, name):
+        budgets.append(cpu_seconds)
+        if len(budgets) in stalled:
+            raise ChildTimeout(f"{name}: stopped after {cpu_seconds:g} CPU-s")
+        return run_child(function, args, cpu_seconds=cpu_seconds, name=name)
+
+    monkeypatch.setattr(gmsh_mesher, "run_child", child)
+    return budgets
+
+
+def test_a_stalled_try_is_stopped_and_the_next_pre_mesh_gives_its_own_mesh(bar, monkeypatch):
+    """Try 1 stalls: try 2 (the next pre-mesh edge) runs and gives the mesh it gives when
+    the ladder starts there; the budget grows with the elements of the try."""
+    from flexarm.meshes import gmsh_mesher
+    from flexarm.meshes.gmsh_mesher import try_cpu_seconds
+
+    said = []
+    budgets = _stalls_on({1}, monkeypatch)
+    mesh = tetrahedralize_gmsh(bar, 0.02, cache=False, name="bar", progress=said.append)
+    assert budgets == [try_cpu_seconds(bar, 0.02, f) for f in gmsh_mesher.PREMESH_FRACTIONS[:2]]
+    assert budgets[1] > budgets[0]  # a finer pre-mesh: more triangles, more time
+    assert any("gmsh try 2/4: remesh (pre-mesh edge 0.00667 m, at most" in s for s in said)
+    monkeypatch.setattr(gmsh_mesher, "PREMESH_FRACTIONS", gmsh_mesher.PREMESH_FRACTIONS[1:])
+    _stalls_on(set(), monkeypatch)
+    assert _same(mesh, tetrahedralize_gmsh(bar, 0.02, cache=False))
+
+
+def test_when_every_remesh_stalls_the_volume_on_the_pre_mesh_is_named(bar, monkeypatch):
+    """Through ``mesher="auto"``: Gmsh without its remesh, named in the note (and so in
+    the build table), with the budget each try spent."""
+    from flexarm.meshes import mesh_surface
+    from flexarm.meshes.gmsh_mesher import try_cpu_seconds
+
+    _stalls_on({1, 2, 3}, monkeypatch)
+    made = mesh_surface(bar, 0.025, name="bar", cache=False)
+    assert made.mesher == "gmsh" and made.is_reproducible
+    b = [round(try_cpu_seconds(bar, 0.025, f)) for f in (1 / 2, 1 / 3, 1 / 4)]
+    assert made.note == (f"the volume on the pre-mesh surface (try 1: no answer in {b[0]} "
+                         f"CPU-s; try 2: no answer in {b[1]} CPU-s; try 3: no answer in "
+                         f"{b[2]} CPU-s)")
+    _check(made.mesh, bar, volume_rtol=1e-9)  # the exact planar facets
+
+
+def test_every_try_stalled_falls_back_to_tetwild_with_the_reason(bar, monkeypatch):
+    from flexarm.meshes import mesh_surface
+
+    _stalls_on({1, 2, 3, 4}, monkeypatch)
+    with pytest.warns(UserWarning, match=r"bar: meshed by fTetWild \(gmsh failed \(try 1: "
+                                         r"no answer in \d+ CPU-s; try 2"):
+        made = mesh_surface(bar, 0.025, name="bar", cache=False)
+    assert made.mesher == "tetwild" and made.note.startswith("gmsh failed (try 1: no answer")
+    _stalls_on({1, 2, 3, 4}, monkeypatch)
+    with pytest.raises(MeshError, match=r"^bar: gmsh failed \(try 1: no answer in \d+ CPU-s; "
+                                        r".*\); try mesher='tetwild'$"):
+        tetrahedralize_gmsh(bar, 0.025, cache=False, name="bar")
+
+
+def test_a_pre_mesh_volume_with_slivers_is_refused(bar, monkeypatch):
+    """The pre-mesh keeps the CAD's triangles where a face is curved (a level-set cavity's
+    thousands): its volume mesh is refused with a single sliver (here a flat tetrahedron,
+    1.4 deg, beside the bar's), and ``"auto"`` goes on to fTetWild."""
+    from flexarm.fe.mesh import TetMesh
+    from flexarm.meshes import gmsh_mesher
+
+    box = TetMesh.box(BAR, (2, 2, 2))
+    flat = np.array([[0, 0, 0], [0.05, 0, 0], [0, 0.05, 0], [0.02, 0.02, 5e-4]]) + [1, 0, 0]
+    points = np.vstack([box.points, flat])
+    tets = np.vstack([box.tets, box.n_nodes + np.arange(4)[None]])
+
+    def child(function, args, cpu_seconds, name):
+        if args[0] == gmsh_mesher._PREMESH:
+            return points, tets
+        raise gmsh_mesher._GmshFailed("Wrong topology of boundary mesh for parametrization")
+
+    monkeypatch.setattr(gmsh_mesher, "run_child", child)
+    with pytest.raises(MeshError, match=r"^bar: gmsh failed \(tries 1-3: Wrong topology of "
+                                        r"boundary mesh for parametrization; try 4: 1 sliver "
+                                        r"tetrahedra\); try mesher='tetwild'$"):
+        tetrahedralize_gmsh(bar, 0.05, cache=False, name="bar")
