@@ -137,7 +137,8 @@ class LinkBuild:
         from the cache: the time that the cache saves).
     mesher : str
         What made the tetrahedra (:attr:`~flexarm.assembly.link_meshes.LinkMesh.mesher`;
-        empty for a rigid base), and ``mesher_note`` why ``"auto"`` fell back to fTetWild.
+        empty for a rigid base), and ``mesher_note`` why ``"auto"`` fell back (to
+        fTetWild, or to Gmsh's volume on its pre-mesh).
     mesh_seconds : float
         Wall time [s] of this build's meshing step (reading a cached mesh included).
     """

@@ -37,7 +37,8 @@ class LinkMesh:
         ``"gmsh"``, ``"tetwild"``, ``"file"`` (the link's ``volume_meshes``) or the name of
         a given :data:`Mesher` callable.
     note : str
-        Why ``model.mesher = "auto"`` fell back to fTetWild (else empty).
+        Why ``model.mesher = "auto"`` fell back: to fTetWild, or to Gmsh's volume on its
+        pre-mesh (else empty).
     seconds : float
         Wall time [s] of this call (reading included).
     is_cached : bool
