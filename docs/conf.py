@@ -57,7 +57,9 @@ nitpick_ignore_regex = [(r"py:.*", r"(numpy|np|scipy|matplotlib|collections|csv|
 html_theme = "pydata_sphinx_theme"
 html_title = "flexarm"
 html_static_path = []
-html_theme_options = {"navigation_depth": 2, "show_toc_level": 2,
+#: The left sidebar shows the current page's branch only: resolving the whole tree of
+#: ~330 API pages for every page was over half of writing the site.
+html_theme_options = {"navigation_depth": 2, "show_toc_level": 2, "collapse_navigation": True,
                       "secondary_sidebar_items": ["page-toc"]}
 
 
