@@ -27,7 +27,8 @@ def builds_text(builds) -> str:
                      f"{mesh_s:>7} {src:>7}  {f}")
         if lb.mesher_note and lb.mesher == "tetwild":
             notes.append(f"* {lb.name}: fTetWild, as {lb.mesher_note} (not reproducible "
-                         f"between fresh caches)")
+                         f"between fresh caches: `flexarm build --pin OUT.toml` keeps these "
+                         f"elements)")
         elif lb.mesher_note:  # Gmsh without its remesh of the surface
             notes.append(f"* {lb.name}: {lb.mesher}, {lb.mesher_note}")
     return "\n".join(lines + notes)

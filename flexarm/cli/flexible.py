@@ -30,6 +30,9 @@ def _add_build(p: argparse.ArgumentParser) -> None:
     p.add_argument("-j", "--jobs", type=count(1, 256), default=None,
                    help="processes meshing the links side by side (default: one per core; "
                         "1: every link in this process, in order)")
+    p.add_argument("--pin", default=None, metavar="OUT.toml",
+                   help="also write OUT.toml, the robot file naming the elements of this "
+                        "build (in OUT_tets/, .vtu): built in any cache, it gives this model")
 
 
 @command("build", "mesh and reduce every link of a robot (cached superelements); a table "
@@ -37,10 +40,17 @@ def _add_build(p: argparse.ArgumentParser) -> None:
 def _run_build(args) -> int:
     from ..assembly.build import BuildOptions, robot_build
 
+    if args.pin is not None and Path(args.pin).suffix.lower() != ".toml":
+        raise ValueError(f"--pin: {args.pin}: the pinned robot file must be a .toml")
     robot = robot_from(args)
     opts = BuildOptions(args.method, args.modes, args.coupling, args.mesh_size)
     out(robot_build(robot, opts, progress=say, jobs=args.jobs).text())
     _check_pairs(robot, args.mesh_size)
+    if args.pin is not None:
+        from ..assembly.pin_meshes import pin_meshes
+
+        out("")
+        out(pin_meshes(robot, args.pin, args.mesh_size, progress=say).text())
     return 0
 
 
