@@ -53,7 +53,7 @@ def plot_error_vs_dof(path, result: StudyResult) -> Path:
     representation and mode count (bottom)."""
     plt = pyplot()
     rows = result.rows
-    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
+    fig, axes = plt.subplots(2, 2, figsize=(12, 10.5))
     sizes = sorted({r.mesh_size for r in rows}, reverse=True)
     reps = list(dict.fromkeys(r.coupling for r in rows))
     ref_c = result.reference.coupling
@@ -81,7 +81,9 @@ def plot_error_vs_dof(path, result: StudyResult) -> Path:
         ax.axhline(0.01, color="grey", lw=0.8, ls=":")
         ax.axhline(0.001, color="grey", lw=0.8, ls=":")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=7, ncol=2)
+        # below the axes: inside, "best" still hid the last (most accurate) points
+        ax.legend(fontsize=7, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                  frameon=False)
     ref = result.reference
     fig.suptitle(f"Arm accuracy at {result.pose}: {_variants(rows)} vs full FE "
                  f"({ref.n_dofs} DOF, {ref.mesh_size * 1e3:.0f} mm, {ref.coupling})")
