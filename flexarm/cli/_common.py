@@ -21,7 +21,7 @@ from ._numbers import count, number
 
 __all__ = ["COMMANDS", "command", "out", "say", "set_quiet", "wrote", "Progress",
            "add_robot_args",
-           "add_flexible_args",
+           "add_flexible_args", "add_krl_config_arg", "krl_config_from",
            "robot_from", "arm_spec_from", "arm_from", "pose_from", "arm_at_pose", "floats", "ints",
            "names"]
 
@@ -168,6 +168,24 @@ def add_flexible_args(p: argparse.ArgumentParser) -> None:
                    help="Craig-Bampton modes per link (default: the robot's)")
     p.add_argument("--coupling", default="rbe2", choices=["rbe2", "rbe3"],
                    help="seat coupling of flexible links")
+
+
+def add_krl_config_arg(p: argparse.ArgumentParser) -> None:
+    """``--krl-config``: the controller's tables a KRL program's ``BAS (#TOOL, n)`` reads."""
+    p.add_argument("--krl-config", default=None, metavar="PATH/$config.dat",
+                   help="with a KRL .src: the controller's $config.dat (TOOL_DATA, "
+                        "BASE_DATA, LOAD_DATA of BAS (#TOOL, n), BAS (#BASE, n); default: "
+                        "a $config.dat beside the .src)")
+
+
+def krl_config_from(args, *programs):
+    """``--krl-config``, refused when none of ``programs`` is a KRL ``.src``."""
+    from pathlib import Path
+
+    if args.krl_config is not None and not any(
+            p is not None and Path(p).suffix.lower() == ".src" for p in programs):
+        raise ValueError("--krl-config goes with a KRL program (a .src)")
+    return args.krl_config
 
 
 def robot_from(args):

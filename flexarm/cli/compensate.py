@@ -6,7 +6,17 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import add_robot_args, arm_spec_from, command, out, robot_from, say, wrote
+from ._common import (
+    add_krl_config_arg,
+    add_robot_args,
+    arm_spec_from,
+    command,
+    krl_config_from,
+    out,
+    robot_from,
+    say,
+    wrote,
+)
 from ._numbers import number, numbers
 
 #: The compensation runs on the E-model or the flexible arm.
@@ -35,6 +45,7 @@ def _add_compensate(p: argparse.ArgumentParser) -> None:
                    default=None, metavar="PCT",
                    help="KRL: $VEL_AXIS of the PTP moves [%%] (default 10 %%, said in a "
                         "comment: a RAPID MoveJ speed is the TCP's)")
+    add_krl_config_arg(p)
     p.add_argument("--krl-template", default=None, metavar="DAT",
                    help="KRL .dat whose S and T are kept for targets whose joints are not "
                         "known (default S 2 T 0)")
@@ -88,7 +99,8 @@ def _run_compensate(args) -> int:
                      effects=[parse_effect(e, robot.chain.n_joints) for e in args.effect],
                      tool=None if args.tool == "program" else args.tool,
                      gravity=not args.no_gravity, pivot=args.pivot, step_mm=args.step,
-                     split_mm=args.split, orientation=args.orientation, progress=say)
+                     split_mm=args.split, orientation=args.orientation,
+                     krl_config=krl_config_from(args, args.program), progress=say)
     out(res.text())
     wrote(res.write(args.output, args.csv, args.png, fmt, template, args.ptp_speed))
     return 0
@@ -112,6 +124,7 @@ def _add_history(p: argparse.ArgumentParser) -> None:
                    help="the picture (.png, .svg or .pdf): bars of the RMS and peak "
                         "deviation per step, and the polar deviation of each step")
     p.add_argument("--csv", default=None, help="the figures (default: OUTPUT with .csv)")
+    add_krl_config_arg(p)
 
 
 @command("history", "the compensation loop's error history: RMS and peak deviation of the "
@@ -125,7 +138,8 @@ def _run_history(args) -> int:
     if picture.suffix.lower() not in PICTURE_SUFFIXES:
         raise ValueError(f"-o {picture.name}: the picture ends in "
                          f"{', '.join(PICTURE_SUFFIXES)}")
-    res = path_history(args.paths, args.program, args.label, args.proc)
+    res = path_history(args.paths, args.program, args.label, args.proc,
+                       krl_config=krl_config_from(args, args.program))
     out(res.text())
     wrote(res.write(picture, args.csv))
     return 0

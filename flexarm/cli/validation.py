@@ -4,7 +4,17 @@ from __future__ import annotations
 
 import argparse
 
-from ._common import MESH_SIZE, add_measured_pose_args, add_robot_args, command, out, say, wrote
+from ._common import (
+    MESH_SIZE,
+    add_krl_config_arg,
+    add_measured_pose_args,
+    add_robot_args,
+    command,
+    krl_config_from,
+    out,
+    say,
+    wrote,
+)
 from ._numbers import band, count, effect, levels, number, numbers
 
 #: The tracker noise of files without a sigma column [µm] (a bare number is µm).
@@ -84,6 +94,7 @@ def _add_lab(p: argparse.ArgumentParser) -> None:
                         "them (the instructions' tool, the flange, the robot file's TCP)")
     p.add_argument("--step", type=number("length", "mm", 0, 1000, open_low=True), default=2.0,
                    help="with --program: reading step along the path [mm]")
+    add_krl_config_arg(p)
     p.add_argument("-o", "--output", required=True,
                    help="static CSV to write (the path CSV with --program)")
 
@@ -106,7 +117,9 @@ def _run_program_lab(args) -> int:
                       procs=procs, reference=args.reference, spec=arm_spec_from(args),
                       noise=args.noise, seed=args.seed, pivot=args.pivot,
                       tool=None if args.tool == "program" else args.tool, step_mm=args.step,
-                      orientation=args.orientation, progress=say)
+                      orientation=args.orientation,
+                      krl_config=krl_config_from(args, args.program, args.reference),
+                      progress=say)
     out(lab.text())
     wrote(lab.write(args.output))
     return 0
@@ -121,6 +134,7 @@ def _run_lab(args) -> int:
         return _run_program_lab(args)
     if args.orientation is not None:
         raise ValueError("--orientation goes with --program (a CSV of positions only)")
+    krl_config_from(args)  # refused without a KRL --program
     lab = run_lab(args.robot, args.effect, _options(args), noise=args.noise, poses=args.poses,
                   loads=args.loads, dirs=args.dirs, cycles=args.cycles, seed=args.seed,
                   ref_noise=args.ref_noise, modal=args.modal is not None, n_modes=args.n_modes,
@@ -146,6 +160,7 @@ def _add_compare(p: argparse.ArgumentParser) -> None:
     p.add_argument("--proc", default=None, help="with --program: the procedure (default: the "
                    "one the file names in a '# procedure:' comment, else the one nearest to "
                    "the readings)")
+    add_krl_config_arg(p)
 
 
 @command("compare", "model predictions vs measurements (static series, modal data, FRFs): "
@@ -157,8 +172,10 @@ def _run_compare(args) -> int:
     if args.program is not None:
         from ..studies.compensation.lab.measured import compare_path
 
-        out(compare_path(args.data, args.program, args.proc).text())
+        out(compare_path(args.data, args.program, args.proc,
+                         krl_config=krl_config_from(args, args.program)).text())
         return 0
+    krl_config_from(args)  # refused without a KRL --program
     cmp = compare(args.data, args.robot, _options(args), noise_um=args.noise,
                   freq_noise_pct=args.freq_noise, progress=say, pose=args.pose,
                   response=args.response, tcp_node=args.tcp_node)

@@ -18,7 +18,7 @@ from flexarm.validation.data.formats import read_measurements
 
 from ..cli_run import run_cli
 from .test_lab_program import THESIS
-from .test_lab_program_csv import LAB, _csv, _rapid, cli, figures
+from .test_lab_program_csv import LAB, XS, _csv, _rapid, cli, figures
 
 
 @pytest.fixture(scope="module")
@@ -95,8 +95,8 @@ BAD = [
     ("compare", ("LIN c2", "LIN c9"), "bad.src, line {}: target 'c9' is not declared in bad.dat"),
     ("compare", ("LIN c2", "IF TRUE THEN"), "bad.src, line {}: unsupported KRL statement "
      "'IF TRUE THEN"),
-    ("lab", ("BAS (#INITMOV,0 )", "BAS (#TOOL,3 )"), "bad.src, line {}: unsupported call "
-     "'BAS (#TOOL,3 )'"),
+    ("lab", ("BAS (#INITMOV,0 )", "BAS (#TOOL,3 )"), "bad.src, line {}: 'BAS (#TOOL,3 )' "
+     "takes TOOL_DATA[3] from the controller's $config.dat"),
     ("lab", ("Pass( )", "Other( )"), "bad.src, line {}: Other( ) is not a DEF of bad.src"),
     ("lab", ("LIN c4", "LIN c4", "X 1340.", "X 5340."), "bad.src, line {}: target c4 at "
      "(5340.2, -149.9, 500.6) mm is out of the arm's reach"),
@@ -139,3 +139,102 @@ def test_a_krl_or_csv_program_is_split_where_its_module_text_says(runs):
             str(out))
         moves = read_rapid(out).procedure("Pass").motions
         assert [m.kind for m in moves] == ["MoveJ"] + ["MoveL"] * 8  # 60 mm in two
+
+
+# --- a program as a KUKA cell has it: several files, the controller's tables ------------
+def _pass_krl(folder, split: bool, head=("BAS (#INITMOV,0 )",)):
+    """The milling pass as KRL: one file, or the middle moves in the module cut.src."""
+    folder.mkdir(exist_ok=True)
+    decl = [f"DECL E6POS c{k}={{X {x!r},Y -150.0,Z 500.0,A 0.0,B 0.0,C 180.0}}"
+            for k, x in enumerate(XS)]
+    middle = ["$VEL.CP = 0.1", "$APO.CDIS = 1", "LIN c1 C_DIS", "LIN c2 C_DIS", "LIN c3 C_DIS"]
+    main = ["DEF pass( )", *head, "PTP c0", "cut( )", "LIN c4", "END"]
+    if split:
+        (folder / "cut.src").write_text("\n".join(["DEF cut( )", *middle, "END", ""]))
+        (folder / "cut.dat").write_text("\n".join(["DEFDAT cut", *decl[1:4], "ENDDAT", ""]))
+        decl = [decl[0], decl[4]]
+    else:
+        main += ["DEF cut( )", *middle, "END"]
+    (folder / "pass.src").write_text("\n".join([*main, ""]))
+    (folder / "pass.dat").write_text("\n".join(["DEFDAT pass", *decl, "ENDDAT", ""]))
+    return folder / "pass.src"
+
+
+#: The controller's tables: tool 3 is 150 mm along the flange's z.
+CONFIG = ["DEFDAT $CONFIG", "DECL FRAME TOOL_DATA[16]",
+          "TOOL_DATA[3]={X 0.0,Y 0.0,Z 150.0,A 0.0,B 0.0,C 0.0}", "ENDDAT", ""]
+
+
+def test_a_program_over_two_files_measures_the_path_of_the_one_file_program(tmp_path):
+    for name, split in (("one", False), ("two", True)):
+        cli("lab", "--program", str(_pass_krl(tmp_path / name, split)), *LAB, "-o",
+            str(tmp_path / f"m_{name}.csv"))
+    a, b = (read_measurements(tmp_path / f"m_{n}.csv") for n in ("one", "two"))
+    assert a.n_rows == b.n_rows >= 12  # 240 mm at 20 mm
+    assert np.abs(a.points - b.points).max() <= 1e-12  # m
+    assert "# procedure: pass" in (tmp_path / "m_two.csv").read_text()
+
+
+def test_bas_tool_with_the_config_measures_the_path_of_the_tool_written_out(tmp_path):
+    config = tmp_path / "System" / "$config.dat"
+    config.parent.mkdir()
+    config.write_text("\n".join(CONFIG))
+    table = _pass_krl(tmp_path / "table", True, ("BAS (#INITMOV,0 )", "BAS (#TOOL,3 )"))
+    frame = _pass_krl(tmp_path / "frame", True,
+                      ("BAS (#INITMOV,0 )", "$TOOL = {X 0.0,Y 0.0,Z 150.0,A 0.0,B 0.0,C 0.0}"))
+    cli("lab", "--program", str(table), "--krl-config", str(config), *LAB, "-o",
+        str(tmp_path / "m_table.csv"))
+    cli("lab", "--program", str(frame), *LAB, "-o", str(tmp_path / "m_frame.csv"))
+    a, b = (read_measurements(tmp_path / f"m_{n}.csv") for n in ("table", "frame"))
+    assert a.n_rows == b.n_rows >= 12
+    assert np.abs(a.points - b.points).max() <= 1e-12  # m
+    # the flange on the same targets deflects otherwise: the table's tool is applied
+    plain = _pass_krl(tmp_path / "plain", True)
+    cli("lab", "--program", str(plain), *LAB, "-o", str(tmp_path / "m_plain.csv"))
+    c = read_measurements(tmp_path / "m_plain.csv")
+    assert np.abs(a.points - c.points).max() > 1e-6  # m
+
+
+REFUSED = [  # (change to the split pass, file, line, message); config: give --krl-config
+    (("cut( )", "cutter( )"), "pass.src", 4, "cutter( ) is not a DEF of pass.src, nor a "
+     "module cutter.src or a GLOBAL DEF in its folder", False),
+    (("LIN c2 C_DIS", "pass( )"), "cut.src", 5, "pass( ) is called again while it runs "
+     "(pass.src:pass -> cut.src:cut -> pass.src:pass): a recursion", False),
+    (("PTP c0", "BAS (#TOOL,4 )\nPTP c0"), "pass.src", 3, "TOOL_DATA[4] is not in ", True),
+    (("PTP c0", "BAS (#TOOL,3 )\nPTP c0"), "pass.src", 3, "'BAS (#TOOL,3 )' takes "
+     "TOOL_DATA[3] from the controller's $config.dat (R1/System/$config.dat), which is not "
+     "beside pass.src: give that file (--krl-config PATH/$config.dat)", False),
+]
+
+
+@pytest.mark.parametrize("command", ["lab", "compare", "compensate", "history"])
+@pytest.mark.parametrize("change, where, line, message, config", REFUSED)
+def test_refused_programs_are_one_line_with_exit_2_and_nothing_written(
+        runs, tmp_path, command, change, where, line, message, config):
+    src = _pass_krl(tmp_path / "prog", True)
+    edited = src.with_name(where)
+    edited.write_text(edited.read_text().replace(*change))
+    cfg = tmp_path / "System" / "$config.dat"
+    cfg.parent.mkdir()
+    cfg.write_text("\n".join(CONFIG))
+    extra = ["--krl-config", str(cfg)] if config else []
+    before = sorted(p.name for p in tmp_path.rglob("*"))
+    args = {"lab": ["lab", "--program", str(src), *LAB, "-o", str(tmp_path / "m.csv")],
+            "compare": ["compare", str(runs / "m_src.csv"), "--program", str(src)],
+            "compensate": ["compensate", str(src), "--force", "tool:fx=300", "-o",
+                           str(tmp_path / "c.src")],
+            "history": ["history", str(runs / "m_src.csv"), "--program", str(src), "-o",
+                        str(tmp_path / "h.png")]}[command]
+    code, _out, err = run_cli([*args, *extra])
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1, err
+    assert f"{src.parent / where}, line {line}: {message}" in lines[0], lines[0]
+    if config:
+        assert str(cfg) in lines[0]  # both files named
+    assert sorted(p.name for p in tmp_path.rglob("*")) == before  # nothing written
+
+
+def test_krl_config_goes_with_a_krl_program(runs, tmp_path):
+    code, _out, err = run_cli(["compare", str(runs / "m_src.csv"), "--program",
+                               str(runs / "pass.mod"), "--krl-config", str(tmp_path / "x.dat")])
+    assert code == 2 and err.strip().endswith("--krl-config goes with a KRL program (a .src)")

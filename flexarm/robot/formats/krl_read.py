@@ -1,20 +1,34 @@
-"""Read the KUKA KRL that :mod:`~flexarm.robot.formats.krl` writes: a ``.src``/``.dat`` pair.
+"""Read a KUKA KRL program: the ``.src`` flexarm writes (:mod:`~flexarm.robot.formats.krl`)
+or a plain expert-mode one shaped like it, its ``.dat``, the modules it calls and the
+controller's tables.
 
-The subset read is the one flexarm writes (and the plain expert-mode programs shaped like
-it): in the ``.dat``, ``DECL TYPE name=value`` lines (``E6POS``, ``POS``, ``E6AXIS``,
-``AXIS``, ``FRAME``, ``LOAD`` or a scalar); in the ``.src``, ``DEF name( )`` ... ``END``
-routines holding system-variable assignments (``$VEL.CP = 0.02``, ``$VEL_AXIS[1] =
-10``, ``$TOOL = {X ..}``, ``$LOAD = {M .., CM {..}, J {..}}``), ``BAS`` calls (speeds, the
-null tool and base), calls of the routines the file defines and the moves ``PTP``,
-``LIN`` and ``CIRC`` to declared or inline targets with an optional approximation
-(``C_DIS``, ``C_PTP``, ``C_VEL``, ``C_ORI``).  ``;`` starts a comment, ``&`` lines are
-editor headers.  Anything else is refused with one line naming the file and line: this
-is a check of what flexarm wrote, not a KRL interpreter (no ``IF``, loops, inline forms
-or expressions).
+The statements of each file are the subset :func:`~.krl_file.read_krl_file` reads
+(declarations, routines of assignments, ``BAS`` calls, moves and calls without
+arguments; anything else one line naming the file and line): this is a check of what a
+program moves, not a KRL interpreter (no ``IF``, loops, inline forms or expressions).
+What :func:`read_krl` adds is the program:
 
-Aggregates are read by a loop over their braces with an explicit stack: no recursion,
-however deep a file nests them.  Positions stay in mm and angles in degrees, as
-written; :func:`matrix_from_abc` turns ``A, B, C`` into rotation matrices.
+* calls are followed as the controller runs them: a routine of the same ``.src``, else
+  the module of that name in the folder (``my_sub( )`` runs ``DEF my_sub( )`` of
+  ``my_sub.src``), else the one ``GLOBAL DEF`` of that name in another ``.src`` of the
+  folder.  The called routine's moves are inlined at the call, in call order, each
+  keeping the file and line it comes from; the system variables flow through calls
+  (a routine sees its caller's ``$TOOL`` and what it sets stays set).  A routine found
+  nowhere, a local ``DEF`` of another module, or a recursion is one line naming the
+  ``.src`` and line of the call;
+* the procedures (what ``--proc`` names): the main routine when it moves the arm itself
+  (its calls inlined), else each routine it calls, each starting from the main
+  routine's settings at the call; and every routine of the main ``.src`` nothing calls;
+* names: a target is the calling module's ``.dat`` declaration, else a ``DECL GLOBAL``
+  of another ``.dat`` read, else a position of ``$config.dat`` (``XHOME``).  Another
+  module's name that the main ``.dat`` already gives to another point is renamed
+  ``<module>_<name>``;
+* the tables: ``BAS (#TOOL, n)``, ``BAS (#BASE, n)``, ``$TOOL = TOOL_DATA[n]`` ... read
+  the controller's ``$config.dat`` (given, else found beside the ``.src``,
+  :mod:`~.krl_config`).
+
+Positions stay in mm and angles in degrees, as written;
+:func:`~.krl_values.matrix_from_abc` turns ``A, B, C`` into rotation matrices.
 """
 
 from __future__ import annotations
@@ -22,39 +36,16 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from ...fe.errors import ReadError
-from ...fe.typing import ArrayLike, FloatArray, PathType
+from ...fe.typing import FloatArray, PathType
+from .krl_config import KrlConfig, find_krl_config, read_krl_config
+from .krl_file import KrlFile, read_krl_file
+from .krl_values import matrix_from_abc
 
 __all__ = ["KrlMove", "KrlProgram", "read_krl", "matrix_from_abc", "read_status_turn"]
-
-_MOVES = ("PTP", "LIN", "CIRC")
-_APPROX = ("C_DIS", "C_PTP", "C_VEL", "C_ORI")
-_TOKEN = re.compile(r"\s*(?:(?P<open>\{)|(?P<close>\})|(?P<comma>,)"
-                    r"|(?P<bits>'B[01]+')|(?P<word>[^\s{},]+))")
-_DECL = re.compile(r"DECL\s+(?:GLOBAL\s+)?(\w+)\s+([A-Za-z_$][\w$]*)\s*=\s*(.+)\Z", re.I)
-_ASSIGN = re.compile(r"(\$[\w.]+)(?:\[(\d+)\])?\s*=\s*(.+)\Z")
-_BAS = re.compile(r"BAS\s*\(\s*#(\w+)\s*(?:,\s*(.*?))?\s*\)", re.I)
-_MOVE = re.compile(r"(PTP|LIN|CIRC)\s+(.+?)(?:\s+(C_DIS|C_PTP|C_VEL|C_ORI))?\Z", re.I)
-
-
-def matrix_from_abc(abc_deg: ArrayLike) -> FloatArray:
-    """Rotation matrices ``Rz(A) Ry(B) Rx(C)`` of KUKA angles ``[A, B, C]`` (..., 3) [deg].
-
-    Examples
-    --------
-    >>> (matrix_from_abc([180.0, 0.0, 180.0]).round(12) + 0.0).tolist()  # tool down
-    [[-1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]
-    """
-    a, b, c = np.moveaxis(np.radians(np.asarray(abc_deg, dtype=np.float64)), -1, 0)
-    ca, sa, cb, sb, cc, sc = np.cos(a), np.sin(a), np.cos(b), np.sin(b), np.cos(c), np.sin(c)
-    rows = [[ca * cb, ca * sb * sc - sa * cc, ca * sb * cc + sa * sc],
-            [sa * cb, sa * sb * sc + ca * cc, sa * sb * cc - ca * sc],
-            [-sb, cb * sc, cb * cc]]
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
 
 
 @dataclass(frozen=True)
@@ -65,14 +56,17 @@ class KrlMove:
     ----------
     kind : {"PTP", "LIN", "CIRC"}
     targets : tuple
-        Each a declared name (str) or an inline aggregate (dict of components).
+        Each a name of :attr:`KrlProgram.data` (str) or an inline aggregate (dict of
+        components).
     approx : str or None
         ``C_DIS``, ``C_PTP`` ... or None (exact stop).
     settings : dict
         The system variables in force (``"$VEL.CP"``, ``"$APO.CDIS"``, ``"$TOOL"``,
         ``"$LOAD"``, ``"$VEL_AXIS[1]"`` ...), as read.
     line : int
-        Line in the ``.src``.
+        Line in its ``.src``.
+    file : str
+        Its ``.src`` (a called module's for an inlined move).
     """
 
     kind: str
@@ -80,26 +74,31 @@ class KrlMove:
     approx: str | None
     settings: dict
     line: int
+    file: str = ""
 
 
 @dataclass(frozen=True, eq=False)
 class KrlProgram:
-    """A ``.src``/``.dat`` pair.
+    """A KRL program: its procedures' moves, calls inlined.
 
     Attributes
     ----------
     name : str
         The main routine (the file's stem).
     data : dict
-        ``.dat`` declarations: name -> (type, value); aggregates as dicts of components
-        (float, int, bit strings as int, nested dicts).
+        Declarations: name -> (type, value); aggregates as dicts of components (float,
+        int, bit strings as int, nested dicts).  The main ``.dat``'s, then those the
+        called modules' moves use (renamed where the name is taken).
     routines : dict
-        Routine name -> tuple of :class:`KrlMove`, in file order (the main routine
-        too when it has moves of its own).
+        Procedure -> tuple of :class:`KrlMove`, in execution order.
     calls : tuple of str
         The routines the main routine calls, in order.
     main_settings : dict
-        The system variables the main routine sets before its calls.
+        The system variables the main routine sets.
+    files : tuple of str
+        The ``.src`` files read, the main one first.
+    config : str or None
+        The controller's ``$config.dat`` read.
     """
 
     name: str
@@ -107,6 +106,8 @@ class KrlProgram:
     routines: dict
     calls: tuple[str, ...] = ()
     main_settings: dict = field(default_factory=dict)
+    files: tuple[str, ...] = ()
+    config: str | None = None
 
     def pose(self, target) -> tuple[FloatArray, FloatArray]:
         """(position (3,) [mm], rotation (3, 3)) of a declared name or inline aggregate."""
@@ -115,183 +116,186 @@ class KrlProgram:
                 matrix_from_abc([v["A"], v["B"], v["C"]]))
 
 
-def _value(text: str, where: str) -> Any:
-    """A number, a bit string, a name or a ``{KEY value, ...}`` aggregate (dict)."""
-    stack: list[tuple[dict, str | None]] = []
-    done, key, pos = None, None, 0
-    text = text.strip()
-    while pos < len(text):
-        m = _TOKEN.match(text, pos)
-        if m is None or not m.group(0).strip():
-            break
-        pos = m.end()
-        if m.group("open"):
-            stack.append(({}, key))
-            key = None
-        elif m.group("close") or m.group("comma"):
-            if not stack or key is not None:
-                raise ReadError(f"{where}: unbalanced or incomplete aggregate '{text}'")
-            if m.group("close"):
-                agg, key = stack.pop()
-                if not stack:
-                    done = agg
-                else:
-                    stack[-1][0][key] = agg
-                    key = None
-        elif not stack:
-            done = _scalar(m.group(0).strip(), where) if done is None else \
-                _fail(where, text)
-        elif key is None:
-            key = m.group(0).strip().upper()
-        else:
-            stack[-1][0][key] = _scalar(m.group(0).strip(), where)
-            key = None
-    if stack or done is None or text[pos:].strip():
-        _fail(where, text)
-    return done
+def _settled(state: dict) -> dict:
+    """The variables set (None: unset)."""
+    return {k: v for k, v in state.items() if v is not None}
 
 
-def _fail(where: str, text: str):
-    raise ReadError(f"{where}: cannot read the value '{text}'")
+class _Folder:
+    """The modules of the program's folder, read as calls reach them."""
+
+    def __init__(self, main: KrlFile, config: KrlConfig | None):
+        self.main, self.config = main, config
+        self.files = {main.src: main}
+        self._sources: dict[str, Path] | None = None
+
+    def sources(self) -> dict[str, Path]:
+        """Lower-case stem -> ``.src`` of the folder."""
+        if self._sources is None:
+            self._sources = {p.stem.lower(): p for p in sorted(self.main.src.parent.iterdir())
+                             if p.suffix.lower() == ".src" and p.is_file()}
+        return self._sources
+
+    def load(self, src: Path) -> KrlFile:
+        if src not in self.files:
+            self.files[src] = read_krl_file(src, self.config, dat_required=False)
+        return self.files[src]
+
+    def _defining(self, name: str, caller: Path) -> tuple[list[Path], list[Path]]:
+        """(``.src`` with a ``GLOBAL DEF name``, with a local ``DEF name``) of the folder."""
+        glob = re.compile(rf"^[ \t]*GLOBAL[ \t]+DEF[ \t]+{re.escape(name)}[ \t]*\(", re.I | re.M)
+        local = re.compile(rf"^[ \t]*DEF[ \t]+{re.escape(name)}[ \t]*\(", re.I | re.M)
+        hits: tuple[list[Path], list[Path]] = ([], [])
+        for p in self.sources().values():
+            if p == caller:
+                continue
+            try:
+                text = p.read_text(encoding="utf-8", errors="replace")
+            except OSError:
+                continue
+            if glob.search(text):
+                hits[0].append(p)
+            elif local.search(text):
+                hits[1].append(p)
+        return hits
+
+    def resolve(self, caller: KrlFile, name: str, where: str) -> tuple[KrlFile, str]:
+        """(module, lower-case routine) a call of ``name`` in ``caller`` runs."""
+        key = name.lower()
+        if key in caller.routines:
+            return caller, key
+        src = self.sources().get(key)
+        if src is not None and src != caller.src:
+            module = self.load(src)
+            if key not in module.routines:
+                raise ReadError(f"{where}: {name}( ): {src.name} has no DEF {name}( )")
+            return module, key
+        glob, local = self._defining(name, caller.src)
+        if len(glob) > 1:
+            raise ReadError(f"{where}: {name}( ) is a GLOBAL DEF of both {glob[0].name} and "
+                            f"{glob[1].name}: keep one")
+        if glob:
+            return self.load(glob[0]), key
+        if local:
+            raise ReadError(f"{where}: {name}( ) is a local DEF of {local[0].name}, which the "
+                            f"controller does not call from {caller.src.name}: make it a "
+                            "GLOBAL DEF")
+        raise ReadError(f"{where}: {name}( ) is not a DEF of {caller.src.name}, nor a module "
+                        f"{name}.src or a GLOBAL DEF in its folder {caller.src.parent}")
 
 
-def _scalar(word: str, where: str) -> Any:
-    if word.startswith("'B"):
-        return int(word[2:-1], 2)
-    if re.fullmatch(r"[+-]?\d+", word):
-        return int(word)
-    try:
-        return float(word)
-    except ValueError:
-        if re.fullmatch(r"[#$A-Za-z_][\w$.#]*", word):
-            return word  # a system variable or an enumeration value: kept as written
-        raise ReadError(f"{where}: '{word}' is not a number, name or aggregate") from None
+class _Reader:
+    """Follows the calls of a program and inlines them (see the module's docstring)."""
+
+    def __init__(self, main: KrlFile, config: KrlConfig | None):
+        self.folder = _Folder(main, config)
+        self.config = config
+        self.data = dict(main.data)
+        self.renamed: dict[tuple[Path, str], str] = {}
+        self.calls: dict[tuple[Path, int], tuple[KrlFile, str]] = {}
+        self._follow()
+
+    def _follow(self) -> None:
+        """Read every module a routine of the main ``.src`` reaches (the calls resolved)."""
+        main = self.folder.main
+        todo, seen = [(main, k) for k in main.routines], {(main.src, k) for k in main.routines}
+        while todo:
+            module, key = todo.pop()
+            for item in module.routines[key][3]:
+                if item[0] != "call":
+                    continue
+                where = f"{module.src}, line {item[-1]}"
+                called = self.folder.resolve(module, item[1], where)
+                self.calls[module.src, item[-1]] = called
+                if (called[0].src, called[1]) not in seen:
+                    seen.add((called[0].src, called[1]))
+                    todo.append(called)
+
+    def name(self, module: KrlFile, target: str, where: str) -> str:
+        """The :attr:`KrlProgram.data` name of a target named in ``module``."""
+        found, origin = module.declared(target), module.src
+        if found is None:
+            for other in self.folder.files.values():
+                if target.lower() in other.exported:
+                    found, origin = other.declared(target), other.src
+                    break
+        if found is None and self.config is not None:
+            found = next(((k, t, v) for k, (t, v) in self.config.positions.items()
+                          if k.lower() == target.lower()), None)
+            origin = self.config.path
+        if found is None:
+            raise ReadError(f"{where}: target '{target}' is not declared in "
+                            f"{module.src.stem}.dat (nor GLOBAL in another .dat of the "
+                            "program or in the controller's $config.dat)")
+        name, typ, value = found
+        if origin == self.folder.main.src:
+            return name
+        key = (origin, name.lower())
+        if key not in self.renamed:
+            taken = {k.lower(): k for k in self.data}
+            new = taken.get(name.lower(), name)
+            if new.lower() in taken and self.data[new] != (typ, value):
+                stem = re.sub(r"\W", "", origin.stem) or "module"
+                base = new = f"{stem}_{name}"
+                n = 2
+                while new.lower() in taken:
+                    new, n = f"{base}_{n}", n + 1
+            self.data[new] = (typ, value)
+            self.renamed[key] = new
+        return self.renamed[key]
+
+    def run(self, module: KrlFile, key: str, state: dict,
+            via: tuple[tuple[Path, str], ...] = ()) -> list[KrlMove]:
+        """The moves of a routine with its calls inlined; ``state`` (the system variables)
+        is updated as the controller would.  A loop over an explicit stack of frames."""
+        moves: list[KrlMove] = []
+        frames = [(module, iter(module.routines[key][3]))]
+        active = [*via, (module.src, key)]
+        while frames:
+            current, items = frames[-1]
+            item = next(items, None)
+            if item is None:
+                frames.pop()
+                active.pop()
+            elif item[0] == "set":
+                state.update(item[1])
+            elif item[0] == "move":
+                where = f"{current.src}, line {item[-1]}"
+                targets = tuple(self.name(current, t, where) if isinstance(t, str) else t
+                                for t in item[2])
+                moves.append(KrlMove(item[1], targets, item[3], _settled(state), item[-1],
+                                     str(current.src)))
+            else:
+                called, ck = self.calls[current.src, item[-1]]
+                self.check_loop(active, (called.src, ck), current, item)
+                frames.append((called, iter(called.routines[ck][3])))
+                active.append((called.src, ck))
+        return moves
+
+    def check_loop(self, active, entry, current: KrlFile, item) -> None:
+        if entry in active:
+            names = [f"{Path(s).name}:{k}" for s, k in active[active.index(entry):]]
+            raise ReadError(f"{current.src}, line {item[-1]}: {item[1]}( ) is called again "
+                            f"while it runs ({' -> '.join([*names, names[0]])}): a "
+                            "recursion, which flexarm does not follow")
 
 
-def _lines(path: Path) -> list[tuple[int, str]]:
-    """(line number, statement) of a KRL file, comments and editor headers dropped."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ReadError(f"{path}: {getattr(exc, 'strerror', None) or exc}") from None
-    out = []
-    for i, line in enumerate(text.splitlines(), start=1):
-        s = line.split(";", 1)[0].strip()
-        if s and not s.startswith("&"):
-            out.append((i, s))
-    return out
+def read_krl(path: PathType, config: PathType | None = None) -> KrlProgram:
+    """Read a ``.src``, the ``.dat`` beside it and the modules it calls.
 
-
-def _bas(settings: dict, m: re.Match, where: str) -> None:
-    """A ``BAS (#WHAT, value)`` call as the system variables it sets: speeds (``#VEL_PTP``
-    [%], ``#VEL_CP`` [m/s]), the null tool or base (``#TOOL``/``#BASE`` 0); the motion
-    defaults (``#INITMOV``) and accelerations do not change the path.  A tool or base of
-    the controller's tables is not in the files: refused."""
-    what = m.group(1).upper()
-    value = None if m.group(2) is None else _value(m.group(2), where)
-    if what in ("INITMOV", "ACC_CP", "ACC_PTP"):
-        return
-    if what in ("VEL_PTP", "VEL_CP") and isinstance(value, (int, float)):
-        settings.update({f"$VEL_AXIS[{i}]": float(value) for i in range(1, 7)}
-                        if what == "VEL_PTP" else {"$VEL.CP": float(value)})
-    elif what in ("TOOL", "BASE") and value == 0:
-        settings[f"${what}"] = "$NULLFRAME"
-    else:
-        raise ReadError(f"{where}: unsupported call '{m.group(0)}' (flexarm reads BAS "
-                        "#INITMOV, #VEL_PTP, #VEL_CP and the null #TOOL/#BASE; set $TOOL "
-                        "and $BASE as frames, the controller's tables are not in the files)")
-
-
-def _read_dat(path: Path) -> dict:
-    data = {}
-    for i, s in _lines(path):
-        if re.fullmatch(r"(DEFDAT\s+\w+(\s+PUBLIC)?|ENDDAT)", s, re.I):
-            continue
-        m = _DECL.match(s)
-        if m is None:
-            raise ReadError(f"{path}, line {i}: expected 'DECL TYPE name=value', got '{s}'")
-        name = m.group(2)
-        if name.lower() in {k.lower() for k in data}:
-            raise ReadError(f"{path}, line {i}: '{name}' is declared twice")
-        data[name] = (m.group(1).upper(), _value(m.group(3), f"{path}, line {i}"))
-    return data
-
-
-def _targets(text: str, where: str) -> tuple:
-    """The move's targets: names, or inline aggregates split at the top-level commas."""
-    parts, depth, start = [], 0, 0
-    for k, ch in enumerate(text):
-        depth += ch == "{"
-        depth -= ch == "}"
-        if ch == "," and depth == 0:
-            parts.append(text[start:k])
-            start = k + 1
-    parts.append(text[start:])
-    return tuple(_value(p, where) if p.strip().startswith("{") else p.strip() for p in parts)
-
-
-def _read_src(path: Path, data: dict) -> tuple[dict, dict]:
-    """(routine -> moves, main routine's settings and calls)."""
-    routines: dict[str, list[KrlMove]] = {}
-    heads: dict[str, dict] = {}
-    current, settings = None, {}
-    calls: list[tuple[int, str]] = []
-    known = {k.lower() for k in data}
-    for i, s in _lines(path):
-        where = f"{path}, line {i}"
-        head = re.fullmatch(r"(?:GLOBAL\s+)?DEF\s+(\w+)\s*\(\s*\)", s, re.I)
-        if head:
-            if current is not None:
-                raise ReadError(f"{where}: DEF {head.group(1)} inside DEF {current} (missing "
-                                "END)")
-            current, settings = head.group(1), {"calls": []}
-            routines[current], heads[current] = [], settings
-            continue
-        if current is None:
-            raise ReadError(f"{where}: '{s}' outside a DEF ... END routine")
-        if s.upper() == "END":
-            current = None
-            continue
-        if (m := _ASSIGN.match(s)) is not None:
-            var = m.group(1).upper() + (f"[{m.group(2)}]" if m.group(2) else "")
-            settings[var] = _value(m.group(3), where)
-        elif (m := _MOVE.match(s)) is not None:
-            targets = _targets(m.group(2), where)
-            for t in targets:
-                if isinstance(t, str) and t.lower() not in known:
-                    raise ReadError(f"{where}: target '{t}' is not declared in {path.stem}.dat")
-            want = 2 if m.group(1).upper() == "CIRC" else 1
-            if len(targets) != want:
-                raise ReadError(f"{where}: {m.group(1).upper()} takes {want} target(s), got "
-                                f"{len(targets)}")
-            routines[current].append(KrlMove(m.group(1).upper(), targets, m.group(3),
-                                             {k: v for k, v in settings.items()
-                                              if k != "calls"}, i))
-        elif (m := _BAS.fullmatch(s)) is not None:
-            _bas(settings, m, where)
-        elif (m := re.fullmatch(r"(\w+)\s*\(\s*\)", s)) is not None:
-            settings["calls"].append(m.group(1))
-            calls.append((i, m.group(1)))
-        else:
-            raise ReadError(f"{where}: unsupported KRL statement '{s}' (flexarm reads the "
-                            "moves, assignments and calls it writes)")
-    if current is not None:
-        raise ReadError(f"{path}: DEF {current} has no END")
-    defined = {k.lower() for k in routines}
-    for i, name in calls:
-        if name.lower() not in defined:
-            raise ReadError(f"{path}, line {i}: {name}( ) is not a DEF of {path.name} "
-                            "(flexarm reads one .src: the moves of other files are unknown)")
-    return routines, heads
-
-
-def read_krl(path: PathType) -> KrlProgram:
-    """Read a ``.src`` and the ``.dat`` beside it.
+    Parameters
+    ----------
+    path : path
+        The main ``.src``.
+    config : path, optional
+        The controller's ``$config.dat`` (tool, base and payload tables; default: a
+        ``$config.dat`` or ``config.dat`` beside the ``.src``, if any).
 
     Raises
     ------
     ReadError
-        A missing file or a statement outside the subset, naming the file and line.
+        A missing file, a statement outside the subset, a routine found nowhere, a
+        recursion, a table entry missing (naming the file and line).
 
     Examples
     --------
@@ -306,16 +310,37 @@ def read_krl(path: PathType) -> KrlProgram:
     (['PTP', 'CIRC', 'CIRC'], [1488.34, 47.78, 588.13])
     """
     path = Path(path)
-    data = _read_dat(path.with_suffix(".dat"))
-    routines, heads = _read_src(path, data)
-    main = next((k for k in routines if k.lower() == path.stem.lower()), None)
-    if main is None:
+    found = find_krl_config(path.parent) if config is None else Path(config)
+    table = None if found is None else read_krl_config(found)
+    main = read_krl_file(path, table)
+    key = path.stem.lower()
+    if key not in main.routines:
         raise ReadError(f"{path}: no main routine DEF {path.stem}( )")
-    settings = {k: v for k, v in heads[main].items() if k != "calls"}
-    # the main routine is a routine of its own only when it moves the arm itself
-    return KrlProgram(main, data, {k: tuple(v) for k, v in routines.items()
-                                   if k != main or v},
-                      tuple(heads[main]["calls"]), settings)
+    name, _glob, line, body = main.routines[key]
+    reader = _Reader(main, table)
+    own: dict = {}
+    routines: dict[str, list[KrlMove]] = {}
+    calls = []
+    if any(item[0] == "move" for item in body):
+        routines[name] = reader.run(main, key, {})
+    for item in body:
+        if item[0] == "set":
+            own.update(item[1])
+        elif item[0] == "call":
+            calls.append(item[1])
+            module, ck = reader.calls[path, item[-1]]
+            reader.check_loop([(path, key)], (module.src, ck), main, item)
+            proc = module.routines[ck][0]
+            if name not in routines and proc not in routines:
+                routines[proc] = reader.run(module, ck, dict(own), ((path, key),))
+    called = {(m.src, k) for m, k in reader.calls.values()}
+    for k, (proc, *_rest) in main.routines.items():
+        if k != key and (path, k) not in called:  # nothing calls it: a procedure of its own
+            routines[proc] = reader.run(main, k, dict(own))
+    return KrlProgram(name, reader.data, {k: tuple(v) for k, v in routines.items()},
+                      tuple(calls), _settled(own),
+                      tuple(str(p) for p in reader.folder.files),
+                      None if found is None else str(found))
 
 
 _STATUS_DECL = re.compile(r"^\s*DECL\s+(?:E6POS|POS)\s+([A-Za-z_$][\w$]*)\s*=\s*\{([^}]*)\}",

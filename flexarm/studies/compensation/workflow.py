@@ -193,7 +193,7 @@ def compensate(program: PathType, robot=None, force: ForceSpec | str | None = No
                spec: ArmSpec = ArmSpec(),  # noqa: B008 (frozen dataclass)
                effects: Sequence = (), tool=None, gravity: bool = True, pivot=None,
                step_mm: float = 2.0, split_mm: float | None = None, arm=None,
-               orientation=None,
+               orientation=None, krl_config: PathType | None = None,
                progress: Callable[[str], None] | None = None) -> CompensationResult:
     """Shift the robtargets of a RAPID program so that the loaded tool lands on the program.
 
@@ -231,6 +231,9 @@ def compensate(program: PathType, robot=None, force: ForceSpec | str | None = No
         A model of ``robot`` already built.
     orientation : (4,) float, optional
         Quaternion ``[w, x, y, z]`` of every pose of a CSV that gives positions only.
+    krl_config : path, optional
+        The controller's ``$config.dat`` of a KRL program (``BAS (#TOOL, n)``; default:
+        the one beside the ``.src``, if any).
 
     Returns
     -------
@@ -254,7 +257,7 @@ def compensate(program: PathType, robot=None, force: ForceSpec | str | None = No
     force = parse_force(force, pivot) if isinstance(force, str) else force
     if pivot is not None and isinstance(force, BallBar) and force.pivot is None:
         force = BallBar(force.force, force.pull, tuple(np.asarray(pivot, float)))
-    text, encoding, module = read_program(program, robot, tool, orientation)
+    text, encoding, module = read_program(program, robot, tool, orientation, krl_config)
     la = loaded_arm(robot, effects, spec, gravity, arm, progress=progress)
     split_notes: list[str] = []
     if split_mm is not None:

@@ -86,6 +86,10 @@ def test_main_moves_bas_speeds_and_undefined_calls(tmp_path):
     src.write_text("DEF own( )\nBAS (#INITMOV,0 )\nmissing( )\nEND\n")
     with pytest.raises(ReadError, match=r"own.src, line 3: missing\( \) is not a DEF of own.src"):
         read_krl(src)
-    src.write_text("DEF own( )\nBAS (#BASE,2 )\nEND\n")
-    with pytest.raises(ReadError, match=r"own.src, line 2: unsupported call 'BAS \(#BASE,2 \)'"):
+    src.write_text("DEF own( )\nBAS (#BASE,2 )\nEND\n")  # a table on the controller
+    with pytest.raises(ReadError, match=r"own.src, line 2: 'BAS \(#BASE,2 \)' takes "
+                       r"BASE_DATA\[2\] from the controller's \$config.dat"):
+        read_krl(src)
+    src.write_text("DEF own( )\nBAS (#BASE,n )\nEND\n")
+    with pytest.raises(ReadError, match=r"own.src, line 2: unsupported call 'BAS \(#BASE,n \)'"):
         read_krl(src)

@@ -129,7 +129,7 @@ class PathHistory:
 
 def path_history(paths: Sequence[PathType], program: PathType,
                  labels: Sequence[str] | None = None, proc: str | None = None,
-                 step_mm: float = 1.0) -> PathHistory:
+                 step_mm: float = 1.0, krl_config: PathType | None = None) -> PathHistory:
     """The measured ``paths`` (path CSVs) of the loop's steps against ``program``.
 
     Parameters
@@ -147,6 +147,8 @@ def path_history(paths: Sequence[PathType], program: PathType,
         The procedure of every path (default: the one nearest to each path's readings).
     step_mm : float
         Sampling step of the programmed path [mm].
+    krl_config : path, optional
+        The controller's ``$config.dat`` of a KRL program.
 
     Returns
     -------
@@ -183,7 +185,7 @@ def path_history(paths: Sequence[PathType], program: PathType,
     if len(labels) != len(paths):
         raise ValueError(f"--label: {len(labels)} labels for {len(paths)} measured paths "
                          "(give one per path, in order)")
-    measured = [compare_path(p, program, proc, step_mm) for p in paths]
+    measured = [compare_path(p, program, proc, step_mm, krl_config) for p in paths]
     seen: dict[tuple[str, str], str] = {}
     for label, m, p in zip(labels, measured, paths, strict=True):
         key = (label, m.run.name.lower())

@@ -96,7 +96,8 @@ class LabRun:
 def measure_program(truth: LoadedArm, robot, program: PathType, force: ForceSpec,
                     procs=None, pivots: dict | None = None, reference: PathType | None = None,
                     noise: float = validation_tol.tracker_sigma, seed: int = 0,
-                    tool=None, step_mm: float = 2.0, orientation=None) -> LabRun:
+                    tool=None, step_mm: float = 2.0, orientation=None,
+                    krl_config: PathType | None = None) -> LabRun:
     """Run ``program`` on the lab's arm ``truth`` and read the tool path with a tracker.
 
     Parameters
@@ -121,7 +122,7 @@ def measure_program(truth: LoadedArm, robot, program: PathType, force: ForceSpec
     noise : float
         Tracker noise per coordinate [m].
     seed : int
-    tool, step_mm, orientation
+    tool, step_mm, orientation, krl_config
         As :func:`lab_program` takes them.
 
     Returns
@@ -143,9 +144,9 @@ def measure_program(truth: LoadedArm, robot, program: PathType, force: ForceSpec
     >>> bool(1e-3 < run.rms() < 3e-3), bool(run.is_jump.any())  # mm, no reversal of joint 2
     (True, False)
     """
-    module = read_program(program, robot, tool, orientation)[2]
+    module = read_program(program, robot, tool, orientation, krl_config)[2]
     ref_module = module if reference is None else \
-        read_program(reference, robot, tool, orientation)[2]
+        read_program(reference, robot, tool, orientation, krl_config)[2]
     pps = program_paths(robot, module, procs, tool, step_mm)
     names = [pp.name for pp in pps]
     refs = pps if reference is None else program_paths(robot, ref_module, names, tool,
@@ -173,6 +174,7 @@ def lab_program(program: PathType, robot=None, effects: Sequence = (),
                 spec: ArmSpec = ArmSpec(),  # noqa: B008 (frozen dataclass)
                 noise: float = validation_tol.tracker_sigma, seed: int = 0, pivot=None,
                 tool=None, step_mm: float = 2.0, orientation=None,
+                krl_config: PathType | None = None,
                 progress: Callable[[str], None] | None = None) -> LabRun:
     """The virtual lab runs ``program`` on ``robot`` with the hidden ``effects``.
 
@@ -206,6 +208,8 @@ def lab_program(program: PathType, robot=None, effects: Sequence = (),
         Reading step along the path [mm].
     orientation : (4,) float, optional
         Quaternion ``[w, x, y, z]`` of every pose of a CSV of positions only.
+    krl_config : path, optional
+        The controller's ``$config.dat`` of a KRL program (and reference).
 
     Returns
     -------
@@ -229,7 +233,7 @@ def lab_program(program: PathType, robot=None, effects: Sequence = (),
     force = parse_force(force, pivot) if isinstance(force, str) else force
     truth = loaded_arm(robot, effects, spec, progress=progress)
     lab = measure_program(truth, robot, program, force, procs, None, reference, noise, seed,
-                          tool, step_mm, orientation)
+                          tool, step_mm, orientation, krl_config)
     hidden = "; ".join(f"{e.label} " + ",".join(f"{k}={v:g}" for k, v in e.params)
                        for e in effects) or "none"
     about = (f"flexarm lab: {Path(program).name} run under {force.label}, measured against "

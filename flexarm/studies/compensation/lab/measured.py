@@ -75,7 +75,7 @@ def _run(name: str, programmed: np.ndarray, points: np.ndarray) -> PathRun:
 
 
 def compare_path(data: PathData | PathType, program: PathType, proc: str | None = None,
-                 step_mm: float = 1.0) -> MeasuredPath:
+                 step_mm: float = 1.0, krl_config: PathType | None = None) -> MeasuredPath:
     """Set a measured path against the programmed path of procedure ``proc``.
 
     Parameters
@@ -90,6 +90,8 @@ def compare_path(data: PathData | PathType, program: PathType, proc: str | None 
         the one whose programmed path the readings lie nearest to (RMS distance).
     step_mm : float
         Sampling step of the programmed path [mm].
+    krl_config : path, optional
+        The controller's ``$config.dat`` of a KRL program.
 
     Returns
     -------
@@ -119,7 +121,7 @@ def compare_path(data: PathData | PathType, program: PathType, proc: str | None 
     if not isinstance(data, PathData):
         raise ValueError(f"{where}: a {type(data).__name__} file; --program compares a path "
                          "CSV (step, x_mm, y_mm, z_mm, f_N) with the program")
-    module = read_program(program)[2]  # the programmed path: no robot needed
+    module = read_program(program, krl_config=krl_config)[2]  # the path: no robot needed
     if named is not None and named.lower() not in {p.lower() for p in module.procedures}:
         named = None  # another program's procedure: the readings pick one
     proc = named if proc is None else proc

@@ -1,11 +1,16 @@
 """A KUKA KRL program (a ``.src`` with its ``.dat`` beside it) as a RAPID module in memory,
 the program of ``lab --program``, ``compare --program``, ``history`` and ``compensate``.
 
-:func:`~flexarm.robot.formats.krl_read.read_krl` reads the pair (the subset flexarm
-writes, anything else one line naming the file and line); :func:`krl_module` writes what
-it read as the RAPID module the rest of flexarm runs, one ``PROC`` per ``DEF`` (the main
-routine too when it moves the arm itself), so ``# procedure: NAME`` and ``--proc`` name
-KRL routines:
+:func:`~flexarm.robot.formats.krl_read.read_krl` reads the pair, the modules of the
+folder it calls and the controller's ``$config.dat`` (the subset flexarm writes,
+anything else one line naming the file and line); :func:`krl_module` writes what it read
+as the RAPID module the rest of flexarm runs, one ``PROC`` per procedure of the program
+(the main routine when it moves the arm itself, else each routine it calls, and the
+routines nothing calls), so ``# procedure: NAME`` and ``--proc`` name KRL routines:
+
+* calls: the called routine's moves are inlined at the call (another module's too,
+  with a comment naming its file and line on the move); the system variables flow
+  through the call as on the controller;
 
 * ``PTP``, ``LIN``, ``CIRC`` become ``MoveJ`` (``MoveAbsJ`` to an ``E6AXIS``/``AXIS``),
   ``MoveL``, ``MoveC``; declared targets stay named robtargets, inline ones stay inline;
@@ -15,12 +20,14 @@ KRL routines:
 * zones: no approximation is ``fine``; ``C_DIS``, ``C_PTP``, ``C_VEL`` or ``C_ORI`` a zone
   of ``$APO.CDIS`` [mm] (``z1`` when the program sets none).  Neither speeds nor zones
   change the path flexarm samples (it passes through every target);
-* the tool: ``$TOOL`` (a frame on the flange [mm], KUKA's A, B, C) becomes a ``tooldata``
+* the tool: ``$TOOL`` (a frame on the flange [mm], KUKA's A, B, C; ``BAS (#TOOL, n)``
+  the controller's ``TOOL_DATA[n]`` and ``LOAD_DATA[n]``) becomes a ``tooldata``
   with the ``$LOAD`` payload, and the targets are read as that tool's TCP, as a RAPID
   program's targets are read as its tooldata (what ``compensate -o NAME.src`` writes);
   no ``$TOOL`` (or the null frame) is ``tool0``, the flange.  ``--tool robot`` or
   ``tool0`` override it as they do a RAPID program's tool;
-* the base: ``$BASE`` (a frame [mm]; ``BAS (#BASE, 0)`` the null one) is applied, so
+* the base: ``$BASE`` (a frame [mm]; ``BAS (#BASE, n)`` the controller's
+  ``BASE_DATA[n]``, 0 the null one) is applied, so
   every robtarget is in the robot base (``wobj0``; the robot root taken as the world).
   A named target moved to under two bases is refused;
 * the configuration: the status and turn (``S``, ``T``) of a ``PTP`` target pick the
@@ -31,9 +38,11 @@ KRL routines:
   first: nearest the zero angles).  The robtarget holds the ABB configuration of those
   angles.
 
-Errors name the ``.src`` (or ``.dat``) and line; the motions carry their ``.src``
-lines, so later messages (reach along the path, limits) name them too.  Without a robot
-(``compare``, ``history``: the programmed path only) every configuration is 0.
+Errors name the ``.src`` (or ``.dat``) and line, a called module's for its moves; the
+motions carry their ``.src`` lines, so later messages (reach along the path, limits)
+name them too (with the main ``.src``'s name: a RAPID motion holds a line, not a
+file).  Without a robot (``compare``, ``history``: the programmed path only) every
+configuration is 0.
 """
 
 from __future__ import annotations
@@ -216,9 +225,10 @@ class _Reader:
         self.tools.append((name, text))
         return name, T
 
-    def target(self, t, kind: str, base: FloatArray, tool: FloatArray, where: str,
+    def target(self, t, kind: str, base: FloatArray, tool: FloatArray, src: Path,
                line: int) -> tuple[str, bool]:
         """(RAPID argument: a name or an inline placeholder, is an axis target)."""
+        where = f"{src}, line {line}"
         if isinstance(t, str):
             name, typ, value = self.data[t.lower()]
         else:
@@ -240,36 +250,41 @@ class _Reader:
         seen = self.targets.get(key)
         if seen is not None and not np.array_equal(seen["frame"], P):  # same text, same floats
             raise ReadError(f"{where}: target '{name}' is moved to under another $BASE than "
-                            f"on line {seen['line']}: give each base its own targets")
+                            f"on {Path(seen['file']).name}, line {seen['line']}: give each "
+                            "base its own targets")
         # the controller reads S and T on PTP moves only (a LIN or CIRC keeps the branch)
         st = (value["S"], value["T"]) if kind == "PTP" and isinstance(value.get("S"), int) \
             and isinstance(value.get("T"), int) else None
         if seen is None:
             self.targets[key] = {"name": self.name(name, where) if name else None,
                                  "frame": P, "st": st, "tool": tool, "line": line,
+                                 "file": src,
                                  "ext": [value.get(f"E{i}") or _UNUSED for i in range(1, 7)]}
         elif seen["st"] is None and st is not None:
-            seen.update(st=st, line=line)
+            seen.update(st=st, line=line, file=src)
         return key if name is None else name, False
 
     def routine(self, routine: str) -> list[str]:
-        is_main = routine.lower() == self.prog.name.lower()
         lines = [f"    PROC {self.name(routine, str(self.src))}()"]
         for m in self.prog.routines[routine]:
-            where = f"{self.src}, line {m.line}"
-            s = m.settings if is_main else {**self.prog.main_settings, **m.settings}
+            src = Path(m.file) if m.file else self.src
+            where = f"{src}, line {m.line}"
+            s = m.settings
             tool, T_tool = self.tool(s, where)
             base = _frame(s.get("$BASE"), where, "$BASE")
             speed, note = _speed(m.kind, s, where)
             zone = _zone(m.approx, s, where)
-            args = [self.target(t, m.kind, base, T_tool, where, m.line) for t in m.targets]
+            args = [self.target(t, m.kind, base, T_tool, src, m.line) for t in m.targets]
             kind = "MoveAbsJ" if args[0][1] else _KINDS[m.kind]
+            if src != self.src:  # inlined from a called module
+                note += f" ! {src.name}, line {m.line}"
             lines.append(f"        {kind} {','.join(a for a, _j in args)},{speed},{zone},"
                          f"{tool}\\WObj:=wobj0;{note}")
         return [*lines, "    ENDPROC"]
 
 
-def krl_module(path: PathType, robot=None, tool=None) -> tuple[str, RapidModule]:
+def krl_module(path: PathType, robot=None, tool=None,
+               config: PathType | None = None) -> tuple[str, RapidModule]:
     """(RAPID text, module) of a KRL ``.src`` and the ``.dat`` beside it (see the
     module's docstring).
 
@@ -282,11 +297,15 @@ def krl_module(path: PathType, robot=None, tool=None) -> tuple[str, RapidModule]
         and turn); None: the path only (configurations 0, no reach check).
     tool : None, "tool0", "robot" or (4, 4) float
         What the targets are read as (default: the program's ``$TOOL``).
+    config : path, optional
+        The controller's ``$config.dat`` (``BAS (#TOOL, n)``, ``BAS (#BASE, n)``;
+        default: the one beside the ``.src``, if any).
 
     Raises
     ------
     ReadError
         A missing ``.dat``, an undeclared target, a statement outside the subset, a
+        routine found nowhere, a recursion, a tool or base with no table or entry, a
         target no joint angles reach with its status and turn (naming the file and line).
 
     Examples
@@ -303,7 +322,7 @@ def krl_module(path: PathType, robot=None, tool=None) -> tuple[str, RapidModule]
     [('MoveJ', 'Target_70', 19), ('MoveC', 'Target_90', 21), ('MoveC', 'Target_110', 22)]
     """
     src = Path(path)
-    prog = read_krl(src)
+    prog = read_krl(src, config)
     reader = _Reader(prog, src)
     body = [line for r in prog.routines for line in reader.routine(r)]
     decls = [f"    PERS tooldata {n}:={text};" for n, text in reader.tools]
@@ -320,7 +339,8 @@ def krl_module(path: PathType, robot=None, tool=None) -> tuple[str, RapidModule]
             if q is None:
                 x, y, z = t["frame"][:3, 3]
                 which = "" if t["st"] is None else f" (with S {t['st'][0]} T {t['st'][1]})"
-                raise ReadError(f"{src}, line {t['line']}: target {t['name'] or '(inline)'} at "
+                raise ReadError(f"{t['file']}, line {t['line']}: target "
+                                f"{t['name'] or '(inline)'} at "
                                 f"({x:.1f}, {y:.1f}, {z:.1f}) mm is out of the arm's reach or "
                                 f"needs a joint beyond its limits{which}")
             near, conf = q, rapid_conf(ch, q)
@@ -333,6 +353,8 @@ def krl_module(path: PathType, robot=None, tool=None) -> tuple[str, RapidModule]
     text = "\n".join([f"MODULE {prog.name}_krl",
                       f"    ! flexarm: {src.name} and {src.stem}.dat (KUKA KRL) as RAPID: "
                       "$TOOL as tooldata, $BASE applied (wobj0), S and T as configurations",
+                      *[f"    ! flexarm: also read {Path(f).name}" for f in
+                        [*prog.files[1:], *([prog.config] if prog.config else [])]],
                       *decls, *body, "ENDMODULE", ""])
     for k, v in inline.items():
         text = text.replace(k, v)

@@ -265,8 +265,8 @@ def poses_module(path: PathType, robot=None, tool=None,
     return text, replace(module, procedures=procs)
 
 
-def read_program(program: PathType, robot=None, tool=None,
-                 orientation=None) -> tuple[str, str, RapidModule]:
+def read_program(program: PathType, robot=None, tool=None, orientation=None,
+                 krl_config: PathType | None = None) -> tuple[str, str, RapidModule]:
     """(text, encoding, module) of a program: a RAPID module as written, a CSV of poses
     (``.csv``) as one (:func:`poses_module`), or a KUKA KRL ``.src`` with its ``.dat`` as
     one (:func:`~.krl_in.krl_module`).
@@ -283,6 +283,9 @@ def read_program(program: PathType, robot=None, tool=None,
         (default: its ``$TOOL``).
     orientation : (4,) float, optional
         Quaternion ``[w, x, y, z]`` of every pose of a CSV of positions only.
+    krl_config : path, optional
+        A KRL program's controller tables, ``$config.dat`` (default: the one beside the
+        ``.src``, if any); not read for other programs.
 
     Raises
     ------
@@ -307,7 +310,7 @@ def read_program(program: PathType, robot=None, tool=None,
         raise ValueError(f"--orientation goes with a CSV of positions, not with the program "
                          f"{name} (its targets give it)")
     if suffix == ".src":  # KUKA KRL, the .dat read beside it
-        text, module = krl_module(program, robot, tool)
+        text, module = krl_module(program, robot, tool, krl_config)
         return text, "utf-8", module
     if suffix == ".dat":
         raise ValueError(f"{name}: give the KRL program's .src (its .dat is read beside it)")
