@@ -17,7 +17,7 @@ def test_regenerates_byte_identical(tmp_path):
         assert (tmp_path / rel).read_bytes() == (shipped / rel).read_bytes(), rel
     assert sorted(p.name for p in (shipped / "tets").iterdir()) == sorted(
         f"{lk}_{h}mm.vtu" for lk in ("base", "frame", "lower_arm", "arm_housing", "tube_shaft",
-                                      "tilt_housing", "turning_disc") for h in (30, 45))
+                                      "tilt_housing", "turning_disc") for h in (30, 45, 60))
 
 
 def test_pinned_meshes_fill_the_cad_and_serve_every_analysis(demo_robot):
