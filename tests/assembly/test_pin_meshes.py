@@ -55,6 +55,8 @@ def pinned_path(tetwild_arm, tmp_path_factory):
                                   str(SIZE), "--pin", str(folder / "cell" / "arm_pinned.toml")])
     assert code == 0, err
     assert re.search(r"^arm\s+tetwild\s+\d+\s+arm_60mm\.vtu$", out, flags=re.M), out
+    assert ("fTetWild never meshes twice alike, so a build in a fresh cache differs: "
+            "`flexarm build --pin OUT.toml` keeps these elements") in out
     return folder / "cell" / "arm_pinned.toml"
 
 

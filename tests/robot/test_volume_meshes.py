@@ -67,6 +67,34 @@ def test_mesh_of_another_solid_is_refused(demo_robot, tmp_path):
         link_mesh(dataclasses.replace(base, volume_meshes={0.03: path}), 0.03)
 
 
+def test_mesh_of_a_link_of_like_volume_is_refused_by_its_extent(demo_robot):
+    # lower_arm's CAD encloses 11 % more than arm_housing's: the volume alone would pass
+    lower, housing = demo_robot.links[2], demo_robot.links[3]
+    lk = dataclasses.replace(housing, volume_meshes={0.03: lower.volume_meshes[0.03]})
+    with pytest.raises(ValueError, match=r"links.arm_housing.volume_meshes.'0.03': "
+                                         r"lower_arm_30mm.vtu reaches [\d.]+ mm past or short "
+                                         r"of the CAD's bounding box: not a mesh of this link"):
+        link_mesh(lk, 0.03)
+
+
+def test_a_coarse_mesh_that_loses_its_chords_is_accepted(demo_robot, tmp_path):
+    # the turning disc's pinned mesh with its volume cut by 12 % about its centroid
+    # direction-wise (as coarse chords cut a curved part) but its extreme points kept
+    disc = demo_robot.links[6]
+    mesh = link_mesh(disc, 0.03)
+    keep = mesh.points.copy()
+    centre = mesh.points.mean(axis=0)
+    hull = np.isin(np.arange(mesh.n_nodes), np.unique(np.concatenate([
+        np.argmin(mesh.points, axis=0), np.argmax(mesh.points, axis=0)])))
+    shrunk = np.where(hull[:, None], keep, centre + (keep - centre) * 0.96)
+    path = tmp_path / "disc_coarse.vtu"
+    write_volume_mesh(path, TetMesh(shrunk, mesh.tets))
+    lost = 1.0 - TetMesh(shrunk, mesh.tets).volumes().sum() / mesh.volumes().sum()
+    assert 0.08 < lost < 0.25
+    pinned = link_mesh(dataclasses.replace(disc, volume_meshes={0.03: path}), 0.03)
+    np.testing.assert_array_equal(pinned.points, shrunk)
+
+
 def test_toml_slot_round_trips_and_names_bad_entries(demo_robot, tmp_path):
     robot_toml.write(tmp_path / "r.toml", demo_robot)
     back = robot_toml.read(tmp_path / "r.toml")
