@@ -102,8 +102,10 @@ def mesher_key_parts(mesher: str, settings: tuple = ()) -> tuple:
     ``libraries=(MESHER_LIBRARY[mesher],)``)."""
     if mesher not in MESHERS:
         raise ValueError(f"mesher must be one of {', '.join(map(repr, MESHERS))}, got {mesher!r}")
-    return (tol.tet_envelope, tol.sliver_dihedral_deg, fe_tol.degenerate_volume, mesher,
-            tuple(settings))
+    parts = (tol.tet_envelope, tol.sliver_dihedral_deg, fe_tol.degenerate_volume, mesher,
+             tuple(settings))
+    # only fTetWild's envelope follows the edge: Gmsh's keys stay as they were
+    return parts + ((tol.tet_envelope_edge,) if mesher == "tetwild" else ())
 
 
 def estimated_tets(volume: float, size: float) -> float:

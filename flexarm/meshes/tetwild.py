@@ -25,7 +25,7 @@ from .quality import dihedral_angles
 from .tet_cache import cached_tetrahedralization
 from .tolerances import tol
 
-__all__ = ["tetrahedralize", "MAX_TRIES", "RETRY_SHRINK"]
+__all__ = ["tetrahedralize", "envelope", "MAX_TRIES", "RETRY_SHRINK"]
 
 logger = logging.getLogger(__name__)
 
@@ -70,12 +70,24 @@ def _run_tetwild(
             f,
             edge_length_abs=float(size),
             optimize=bool(optimize),
-            epsilon=tol.tet_envelope,
+            epsilon=envelope(float(np.linalg.norm(np.ptp(v, axis=0))), size),
             vtk_ordering=True,  # without it every element is negatively oriented
             quiet=True,
             num_threads=_threads(),
         )
     return np.asarray(points, dtype=np.float64), np.asarray(tets, dtype=np.int64)
+
+
+def envelope(diagonal: float, size: float) -> float:
+    """fTetWild's envelope over the bounding-box ``diagonal`` [m] for an edge of ``size``
+    [m]: ``tol.tet_envelope``, or ``tol.tet_envelope_edge`` of the edge where larger.
+
+    Examples
+    --------
+    >>> envelope(1.5, 0.03), round(envelope(0.18, 0.03), 5)  # a robot's arm, its wrist
+    (0.001, 0.00556)
+    """
+    return max(tol.tet_envelope, tol.tet_envelope_edge * float(size) / float(diagonal))
 
 
 def _threads() -> int:

@@ -26,8 +26,15 @@ class Tolerances:
     #: (``TETS_PER_SECOND``); the M-20iA's links at 30 mm take 2.7-13.8 CPU-s, 7.8 to 51
     #: times less than their budgets of 35-277 CPU-s (child start included, 2026-11-27).
     gmsh_try_cpu_per_element: float = 0.0125
-    #: pytetwild envelope: allowed surface deviation / bounding-box diagonal.
+    #: pytetwild envelope: allowed surface deviation / bounding-box diagonal ...
     tet_envelope: float = 1e-3
+    #: ... or this share of the target edge, where that is larger: a mesh at that edge
+    #: cannot follow the surface closer (Gmsh's chords of a 45 mm radius at a 30 mm edge
+    #: leave 2.5 mm), and fTetWild refines every small part to its envelope (the UR10's
+    #: 0.18 m wrist_1_link at 30 mm: 40.8 CPU-s and 26,662 tetrahedra at 1e-3 of the
+    #: diagonal, 5.8 CPU-s and 4,000 at 8e-3).  Three times it stays within the seat
+    #: margin of a tenth of the edge (:func:`flexarm.robot.seat_geometry.seat_margin`).
+    tet_envelope_edge: float = 1.0 / 30.0
     #: ``|V_tets - V_surface| / V_surface`` above which tetrahedralisation logs a warning.
     tet_volume_warn: float = 1e-2
     #: Hollowing: deepest surface vertex below the convex hull, over the largest extent,
