@@ -210,13 +210,14 @@ def _expected(out: Path) -> list[str]:
     study = _csv(out / "study" / "arm_study.csv")
     ref, cb, guyan = (next(r for r in study if r["label"] == name and r["coupling"] == "rbe2")
                       for name in ("full-FE", "CB(10)", "Guyan"))
-    # static condensation is exact at the interfaces: the compliance error is round-off,
-    # which differs between BLAS builds, so the README gives its bound
-    assert float(cb["C_err_max"]) < 1e-12
+    # static condensation is exact at the interfaces: the compliance error is round-off of
+    # the 46k-DOF reference's factorisation, which differs between BLAS builds and thread
+    # counts (1.2e-12 seen with one thread), so the README gives a bound with room
+    assert float(cb["C_err_max"]) < 1e-10
     said.append(f"reference at P1 ({int(ref['n_fe_dofs']):,} DOF), CB(10) with "
                 f"{cb['n_reduced']} arm coordinates is within "
                 f"{100 * float(cb['freq_err_max']):.3g} % on the first 10 frequencies and "
-                "below 1e-12 (round-off) on the TCP compliance")
+                "below 1e-10 (round-off) on the TCP compliance")
     said.append(f"Guyan ({guyan['n_reduced']} coordinates) is within "
                 f"{100 * float(guyan['freq_err_max']):.2g} %")
     mesh = _csv(out / "study" / "arm_study_mesh_error.csv")
