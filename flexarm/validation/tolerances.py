@@ -73,6 +73,11 @@ class Tolerances:
     max_reflector_offset: float = 0.2
     #: Largest plausible added mass, as a share of the arm's moving mass [-].
     max_added_mass_share: float = 0.3
+    #: A measured channel is reversed when turning its sign lowers the shape chi-square
+    #: of the paired modes by more than this many times the chi-square per observation
+    #: left after the turn (at least 1) [-]: a flip is one discrete choice among the
+    #: channels, so well beyond a one-parameter 5-sigma gain.
+    reversed_channel_chi2: float = 25.0
     #: Largest share of the readings the outlier test may flag, one at a time [-].
     max_outlier_share: float = 0.1
     #: Uncertainty multiplier of a discounted reading (outlier) [-].

@@ -2,6 +2,9 @@
 (``../shared/data/irb4600``, as ``flexarm import-urdf`` writes it): the lab arm has the
 usual +-30 % joint stiffness errors and one hidden cause; the data are static series at
 P1-P6 x +-X+-Y+-Z, 0-800 N, 15 µm, plus the first 6 modes at the 6 poses, 0.3 %.
+The reversed-channel sweep gives the modes with their shapes at the robot's default
+points (x, y, z each, 2 % of each shape's peak) and turns one channel, drawn by the seed
+among those that move (:func:`~flexarm.validation.dynamic.mac.moving_points`, 10 %).
 
 :func:`sweep` runs one cause over seeds and counts what was named first, what was
 accepted that is not the cause, and the verdict; the slow tests assert the counts and
@@ -12,7 +15,7 @@ from __future__ import annotations
 
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -20,12 +23,14 @@ import numpy as np
 from flexarm.robot.effects import parse_effect
 from flexarm.validation.data.load_plan import LabPlan, parse_dirs, parse_loads
 from flexarm.validation.diagnosis.search import diagnose
-from flexarm.validation.lab.modal_lab import virtual_modal
+from flexarm.validation.dynamic.mac import moving_points
+from flexarm.validation.dynamic.shapes import default_points
+from flexarm.validation.lab.modal_lab import virtual_modal, virtual_shapes
 from flexarm.validation.lab.virtual_lab import virtual_lab
 
 from .helpers import PERTURB
 
-SIGMA, FREQ_NOISE = 15e-6, 0.003
+SIGMA, FREQ_NOISE, SHAPE_NOISE = 15e-6, 0.003, 0.02
 #: Poses [deg]: the thesis's P1-P3 and three more across the workspace.
 POSES_DEG = {
     "P1": (0, 52, -19, 12, -15, -11),
@@ -41,6 +46,10 @@ NEW_CAUSES = {
     "loadcell:s=0.03": "loadcell",
     "reflector:ox=30mm": "reflector",
     "foundation:kx=1e7": "foundation",
+    # a balancer on joint 2 of 1.0-1.4 MN m/rad over the poses' q2 (0-60 deg), a quarter to
+    # a third of the gear's 4.3 MN m/rad: joint 2's compliance swings by 7 % with the angle,
+    # a signature no joint scale mimics
+    "balancer:j2=1e6,s=5e5": "balancer_j2",
 }
 #: The library's scenarios (hidden effects -> the candidates that name them).
 LIBRARY = {
@@ -74,26 +83,60 @@ class Outcome:
     unexplained: bool
     seconds: float
     rel_sd: float = float("nan")  # sd / |value| of the first accepted amplitude
+    channels: tuple = ()  # the channels named reversed ("channel node 601 y")
+    turned: str = ""  # the channel the lab turned, in the same words
+    structures: tuple = ()  # what the verdict found in the final model's residual
 
 
-def run_one(arm, hidden: str, seed: int, modal: bool = True) -> Outcome:
-    """Lab data of ``hidden`` (``;``-separated effects) on ``arm`` and their diagnosis."""
+def _lab(arm, hidden: str, seed: int):
+    """(poses, effects, static data) of the lab arm with ``hidden`` (``;``-separated)."""
     poses = {p: np.radians(q) for p, q in POSES_DEG.items()}
     eff = ([parse_effect(f"stiffness:j{j + 1}={s}") for j, s in enumerate(PERTURB)]
            + [parse_effect(h) for h in hidden.split(";") if h])
     plan = LabPlan(poses, parse_loads("0:800:100"), parse_dirs("x,y,z,-x,-y,-z"))
-    data = virtual_lab(arm, plan, eff, SIGMA, seed)
+    return poses, eff, virtual_lab(arm, plan, eff, SIGMA, seed)
+
+
+def run_one(arm, hidden: str, seed: int, modal: bool = True) -> Outcome:
+    """Lab data of ``hidden`` (``;``-separated effects) on ``arm`` and their diagnosis."""
+    poses, eff, data = _lab(arm, hidden, seed)
     m = virtual_modal(arm, poses, eff, n_modes=6, freq_noise=FREQ_NOISE, seed=seed) \
         if modal else None
     t = time.perf_counter()
     dg = diagnose(arm, data, SIGMA, modal=m, freq_noise=FREQ_NOISE, heldout=False)
+    return _outcome(dg, seed, time.perf_counter() - t)
+
+
+def run_channel(robot, arm, seed: int, turn: bool = True) -> Outcome:
+    """Static data and the modes with shapes of the lab arm (nothing hidden) with one
+    moving channel turned (``turn``; drawn by ``seed``), and their diagnosis."""
+    poses, eff, data = _lab(arm, "", seed)
+    pts = default_points(robot)
+    shapes = virtual_shapes(arm, poses, pts, eff, n_modes=6, freq_noise=FREQ_NOISE,
+                            shape_noise=SHAPE_NOISE, seed=seed)
+    moving = np.flatnonzero(moving_points(shapes.shapes, np.arange(shapes.n_dofs), 0.1))
+    i = int(np.random.default_rng((seed, 1)).choice(moving))
+    turned = f"channel node {int(shapes.nodes[i])} {shapes.dirs[i]}"
+    if turn:
+        S = np.array(shapes.shapes)
+        S[:, i] *= -1
+        shapes = replace(shapes, shapes=S)
+    t = time.perf_counter()
+    dg = diagnose(arm, data, SIGMA, modal=shapes, freq_noise=FREQ_NOISE, points=pts,
+                  shape_noise=SHAPE_NOISE, heldout=False)
+    out = _outcome(dg, seed, time.perf_counter() - t)
+    return replace(out, turned=turned if turn else "", structures=dg.misfit.structures,
+                   channels=tuple(c.split(" looks")[0] for c in dg.misfit.channels))
+
+
+def _outcome(dg, seed: int, seconds: float) -> Outcome:
     names = dg.named
     first = next((s.winner for s in dg.steps if s.accepted and s.winner.name in names), None)
     rel = float("nan")
     if first is not None and first.params:
         value, sd = next(iter(first.params.values()))
         rel = sd / abs(value) if value else float("nan")
-    return Outcome(seed, names, dg.unexplained, time.perf_counter() - t, rel)
+    return Outcome(seed, names, dg.unexplained, seconds, rel)
 
 
 def sweep(arm, hidden: str, seeds=range(20), modal: bool = True,
@@ -130,14 +173,45 @@ def spoiled(want: tuple, static: list[Outcome], modal: list[Outcome]) -> str:
     return f"modal data spoiled {bad}/{len(right)} right static answers;{width}"
 
 
-if __name__ == "__main__":  # python -m tests.validation.sweeps [N_SEEDS [new|library|CAUSE]]
+def channel_sweep(robot, arm, seeds=range(20), turn: bool = True,
+                  verbose: bool = False) -> list[Outcome]:
+    """:func:`run_channel` over ``seeds`` (each diagnosis on stderr with ``verbose``)."""
+    out = []
+    for s in seeds:
+        out.append(run_channel(robot, arm, s, turn))
+        if verbose:
+            o = out[-1]
+            print(f"  {o.turned or 'no channel'} turned, seed {s}: named "  # noqa: T201
+                  f"{', '.join(o.channels) or '-'}; accepted {', '.join(o.accepted) or '-'}"
+                  f" ({o.seconds:.0f} s)", file=sys.stderr, flush=True)
+    return out
+
+
+def channel_summary(turned: list[Outcome], right: list[Outcome]) -> str:
+    """The reversed-channel sweep in one line: the turned channel named (alone), anything
+    accepted (nothing is hidden), a residual structure besides the channel, and a channel
+    named on the same seeds unturned."""
+    named = sum(o.channels == (o.turned,) for o in turned)
+    wrong = sum(bool(o.accepted) for o in turned)
+    more = sum(bool(set(o.structures) - {"reversed_channel"}) for o in turned)
+    false = sum(bool(o.channels) for o in right)
+    secs = np.mean([o.seconds for o in turned + right])
+    return (f"{'reversed channel':34s} named {named}/{len(turned)}, something wrong accepted "
+            f"{wrong}/{len(turned)}, another structure left {more}/{len(turned)}; unturned: "
+            f"a channel named {false}/{len(right)}, something accepted "
+            f"{sum(bool(o.accepted) for o in right)}/{len(right)}, unexplained "
+            f"{sum(o.unexplained for o in right)}, {secs:.1f} s per diagnosis")
+
+
+if __name__ == "__main__":  # python -m tests.validation.sweeps [N [new|library|channel|CAUSE]]
     import tempfile
 
     n = int(sys.argv[1]) if len(sys.argv) > 1 else 20
-    # "new" or "library": one half of the sweep; any other text: the causes containing it
+    # "new", "library" or "channel": one group of the sweep; any other text: the causes
+    # containing it
     only = sys.argv[2] if len(sys.argv) > 2 else ""
     with tempfile.TemporaryDirectory() as tmp:
-        _, arm = irb4600(Path(tmp))
+        robot, arm = irb4600(Path(tmp))
         for hidden, name in NEW_CAUSES.items():
             if only == "new" or (only != "library" and only in hidden):
                 print(summary(hidden, (name,), sweep(arm, hidden, range(n), verbose=True)),  # noqa: T201
@@ -151,3 +225,7 @@ if __name__ == "__main__":  # python -m tests.validation.sweeps [N_SEEDS [new|li
                 print(("static+modal " if modal else "static       ")  # noqa: T201
                       + summary(hidden, names, both[-1]), flush=True)
             print("             " + spoiled(names, *both), flush=True)  # noqa: T201
+        if only in ("", "channel"):
+            print(channel_summary(channel_sweep(robot, arm, range(n), True, True),  # noqa: T201
+                                  channel_sweep(robot, arm, range(n), False, True)),
+                  flush=True)

@@ -175,12 +175,20 @@ def moving_points(A: ArrayLike, groups: ArrayLike, share: float = 0.1) -> np.nda
     return rms >= share * rms.max()
 
 
-def reversed_channels(A: ArrayLike, B: ArrayLike, min_gain: float = 0.05) -> list:
+def reversed_channels(A: ArrayLike, B: ArrayLike, min_gain: float = 0.05,
+                      weighted: bool = False) -> list:
     """Channels (columns of the paired shapes ``A`` measured, ``B`` model, both (n, m))
     whose sign flip raises the mean MAC of the pairs by at least ``min_gain``, found one
     at a time (each flip judged with the ones before made), with the mean MAC before and
     after: ``[(column, mac_before, mac_after), ...]``.  A sensor mounted the wrong way
     round, or a direction entered with the wrong sign.
+
+    With ``weighted``, ``A`` is in units of its noise (each row divided by the scatter of
+    one entry) and a flip must lower the shape chi-square ``sum |a|^2 (1 - MAC)`` by at
+    least ``min_gain`` times the chi-square per observation it leaves (at least 1): a
+    channel that carries a few per cent of every shape moves the mean MAC by little, yet
+    far more than its noise, while a model error spread over all channels inflates the
+    chi-square the gain is weighed against.
 
     Examples
     --------
@@ -188,20 +196,29 @@ def reversed_channels(A: ArrayLike, B: ArrayLike, min_gain: float = 0.05) -> lis
     >>> A = B * [1.0, -1.0, 1.0]  # channel 1 reversed
     >>> [(c, round(a, 2), round(b, 2)) for c, a, b in reversed_channels(A, B)]
     [(1, 0.28, 1.0)]
+    >>> [c for c, _, _ in reversed_channels(100 * A, B, min_gain=25.0, weighted=True)]
+    [1]
     """
     A, B = np.atleast_2d(np.array(A)), np.atleast_2d(B)
+    # the weight of a row's MAC: its share of the mean, or its chi-square |a|^2
+    w = (np.abs(A)**2).sum(axis=1) if weighted else np.full(len(A), 1.0 / max(len(A), 1))
+    dof = max(A.size - len(A), 1)  # one scale fitted per row
     out = []
     while len(A) and len(out) < A.shape[1]:
-        base = float(np.mean(np.diag(mac(A, B))))
-        gains = []
+        before = np.diag(mac(A, B))
+        trials = []
         for i in range(A.shape[1]):
             A[:, i] = -A[:, i]
-            gains.append(float(np.mean(np.diag(mac(A, B)))))
+            trials.append(np.diag(mac(A, B)))
             A[:, i] = -A[:, i]
-        i = int(np.argmax(gains))
-        if gains[i] - base < min_gain:
+        T = np.array(trials)  # (m, n): every row's MAC with channel i flipped
+        score = (T - before) @ w
+        if weighted:
+            score = score / np.maximum(1.0, (1.0 - T) @ w / dof)
+        i = int(np.argmax(score))
+        if score[i] < min_gain:
             break
-        out.append((i, base, gains[i]))
+        out.append((i, float(before.mean()), float(T[i].mean())))
         A[:, i] = -A[:, i]  # greedy: the next flip is judged with this one made
     return out
 

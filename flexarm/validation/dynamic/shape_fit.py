@@ -216,19 +216,25 @@ class ShapeProblem(ModalProblem):
         each measured mode with its most alike model mode within the frequency window, in
         the model with ``effects`` (:func:`~.mac.reversed_channels`): a sensor mounted the
         wrong way round drops the MAC of every mode it sees, so the modes may have no
-        partner at all until it is turned."""
+        partner at all until it is turned.  A flip is judged by the shape chi-square it
+        removes (``tol.reversed_channel_chi2``), so a channel that carries a few per cent
+        of every shape is found as surely as one at the tool; a measured mode with no
+        model mode in the window has no shape to be judged against and is left out."""
         pr = self.pairing(effects)
         A, B = [], []
         for p, tp in pr["terms"].items():
             r = np.flatnonzero(self.modal_pose == p)
             rel = np.abs(tp["f"][None, :] - self.f_meas[r, None]) / self.f_meas[r, None]
+            near = (rel <= self.window).any(axis=1)
             k = np.argmax(np.where(rel <= self.window, tp["mac"], -1.0), axis=1)
-            A.append(self.a_w[r])
-            B.append(tp["shapes"][k])
+            A.append(self.a_w[r][near])
+            B.append(tp["shapes"][k][near])
+        flips = reversed_channels(np.concatenate(A), np.concatenate(B),
+                                  tol.reversed_channel_chi2, weighted=True)
         return [(i, f"channel node {int(self.modal.nodes[i])} {self.modal.dirs[i]} looks "
                     f"reversed: flipping its sign raises the mean MAC from {before:.3f} to "
                     f"{after:.3f}")
-                for i, before, after in reversed_channels(np.concatenate(A), np.concatenate(B))]
+                for i, before, after in flips]
 
     def _shape_words(self, i: int) -> str:
         from ...robot.kinematics import link_frames
