@@ -52,6 +52,8 @@ class RobotRun:
     toml: Path
     folder: Path
     steps: dict = field(default_factory=dict)
+    edge: float = 0.0
+    hollowed: bool = True
 
     def out(self, step: str) -> str:
         """stdout of ``step``; fails the test, with its stderr, when the step failed or
@@ -73,16 +75,20 @@ def require(name: str) -> Published:
     return robot
 
 
-def run_robot(name: str, folder: Path, *import_options: str) -> RobotRun:
-    """Import (``--total-mass``, ``--wall auto`` and ``import_options``), build and
-    analyse robot ``name`` in ``folder``; stops at the first command that fails."""
+def run_robot(name: str, folder: Path, *import_options: str, edge: float | None = None,
+              hollowed: bool = True) -> RobotRun:
+    """Import (``--total-mass``, ``--wall auto`` unless not ``hollowed``, and
+    ``import_options``), build and analyse robot ``name`` in ``folder`` at ``edge`` [m]
+    (default: the robot's); stops at the first command that fails."""
     robot = require(name)
+    edge = robot.edge if edge is None else edge
     toml = folder / f"{name}.toml"
-    h = ["--mesh-size", str(robot.edge)]
+    h = ["--mesh-size", str(edge)]
     at = [*h, "--pose", robot.pose]
+    wall = ["--wall", "auto"] if hollowed else []
     chain = {
         "import-urdf": ["import-urdf", str(robot.urdf), "--total-mass", str(robot.mass),
-                        "--wall", "auto", *import_options, "-o", str(toml)],
+                        *wall, *import_options, "-o", str(toml)],
         "build": ["build", "--robot", str(toml), *h],
         "modes": ["modes", "--robot", str(toml), "--model", "cb", *at, "-n", "10"],
         "compliance": ["compliance", "--robot", str(toml), "--model", "cb", *at],
@@ -96,7 +102,7 @@ def run_robot(name: str, folder: Path, *import_options: str) -> RobotRun:
         steps[step] = run_cli(args)
         if steps[step][0] != 0:
             break
-    return RobotRun(robot, toml, folder, steps)
+    return RobotRun(robot, toml, folder, steps, edge, hollowed)
 
 
 def mode_table(text: str) -> np.ndarray:
@@ -140,6 +146,14 @@ def first_emodel_hz(toml: Path) -> float:
 def m20ia_run(tmp_path_factory) -> RobotRun:
     """The M-20iA's chain, run once for the session."""
     return run_robot("m20ia", tmp_path_factory.mktemp("m20ia_run"))
+
+
+@pytest.fixture(scope="session")
+def ur10_coarse_run(tmp_path_factory) -> RobotRun:
+    """The UR10's chain as published (solid hulls) at a 60 mm edge, run once for the
+    session: the default suite's turn of the chain (five of its links go to fTetWild)."""
+    return run_robot("ur10", tmp_path_factory.mktemp("ur10_coarse_run"), edge=0.06,
+                     hollowed=False)
 
 
 @pytest.fixture(scope="session")

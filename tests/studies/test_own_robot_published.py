@@ -7,13 +7,15 @@ copied; the tests skip where it is absent).  The robots and the chain of command
 Default suite: ``flexarm import-urdf`` with no hand repair (every seat found, the seat
 pairs checked in the report), the M-20iA hollowed with ``--wall auto`` to its datasheet
 mass, and its first E-model mode at mid-workspace inside the band the placeholder rule
-promises.  Slow: the UR10 built at its 30 mm edge (every link meshed, each fallback
-named, every seat pair within 5 mm on at least 6 nodes a side; 11 CPU-min cold, six of
-its shells go to fTetWild, so not in the default suite), the UR10's hollowing checked
+promises, and the UR10's whole chain as published (solid hulls) at a coarse 60 mm edge
+(about 100 CPU-s cold, five links by fTetWild).  Slow: the UR10 built at its 30 mm edge
+(every link meshed, each fallback named, every seat pair within 5 mm on at least 6 nodes
+a side; 11 CPU-min cold, six of its shells go to fTetWild), the UR10's hollowing checked
 (overlapping bodies united, then a level-set cavity), and the whole chain per robot at
-its own 30 mm edge (``--wall auto``, ``build``, ``modes``/``compliance``/``compare-models``/``map`` with ``--model cb``): every joint's
-seats within 5 mm along the axis with at least 6 FE nodes a side, CB(10) within 0.1 %
-of the full FE on the first 10 frequencies.
+its own 30 mm edge (``--wall auto``, ``build``, ``modes``/``compliance``/
+``compare-models``/``map`` with ``--model cb``): every joint's seats within 5 mm along
+the axis with at least 6 FE nodes a side, CB(10) within 0.1 % of the full FE on the
+first 10 frequencies.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ from ..published_robots import (
     mode_table,
     pair_table,
     require,
+    ur10_coarse_run,  # noqa: F401 - a fixture
     ur10_run,  # noqa: F401 - a fixture
 )
 
@@ -149,14 +152,15 @@ def test_ur10_builds_every_mesher_and_fallback_named(ur10_built):
 
 # --- slow: the whole chain at the robots' own edge -------------------------------------
 @pytest.fixture(params=[pytest.param("m20ia", marks=pytest.mark.slow),
-                        pytest.param("ur10", marks=pytest.mark.slow)])
+                        pytest.param("ur10", marks=pytest.mark.slow), "ur10_coarse"])
 def run(request):
     return request.getfixturevalue(f"{request.param}_run")
 
 
 def test_chain_imports_hollowed_and_builds(run):
     out = run.out("import-urdf")
-    assert f"{run.robot.mass:.1f} kg" in out and "link CAD hollowed to" in out
+    assert f"{run.robot.mass:.1f} kg" in out
+    assert ("link CAD hollowed to" in out) == run.hollowed
     table = run.out("build")
     assert "links built" in table
 
@@ -173,27 +177,28 @@ def test_every_joint_pairs_within_5_mm_on_6_nodes_a_side(run):
 def test_the_import_estimate_of_seat_nodes_is_what_the_build_meets(run):
     """The report's nodes per seat (the flat-face count at the edge the build meshes the
     seat with, refined where 30 mm is too coarse), at least the 6 a seat needs, against
-    the build's: never more, and on Gmsh's meshes at most three times fewer (the hulls'
+    the build's on Gmsh's meshes: never more, and at most three times fewer (the hulls'
     feature edges add nodes).  The M-20iA's joint-4 seat on link_3, 34.6 cm^2, held 5
     nodes at 30 mm before the refinement (12 or more estimated now).  fTetWild keeps no
     edge length on a curved seat: the UR10's base_link seat of joint 1, estimated 18,
     holds 101 nodes of its fTetWild mesh; its forearm's seat of joint 4, estimated 11,
-    holds 145 (2026-11-27)."""
+    holds 145 (2026-11-27); at 60 mm its upper arm's seat of joint 2, estimated 12, holds
+    10.  So on fTetWild's meshes only the 6 nodes are asserted."""
     from flexarm.robot import load_robot
     from flexarm.studies.seat_check import pair_checks
 
     table = run.out("build")
     rows = pair_table(table)
     mesher = {ln.split()[0]: ln.split()[1] for ln in table.splitlines()[1:8]}
-    checks = pair_checks(load_robot(run.toml), run.robot.edge)
+    checks = pair_checks(load_robot(run.toml), run.edge)
     assert len(checks) == len(rows) == 6
     for c in checks:
         row = rows[c.pair.joint]
         for link, est, real in ((c.pair.parent, c.parent_nodes, int(row[5])),
                                 (c.pair.child, c.child_nodes, int(row[6]))):
-            assert 6 <= est <= real, (run.robot.name, c.pair.joint, est, real)
-            if mesher[link] == "gmsh":
-                assert real <= 3 * est, (run.robot.name, c.pair.joint, est, real)
+            assert 6 <= est and real >= 6, (run.robot.name, c.pair.joint, est, real)
+            if mesher[link] == "gmsh":  # fTetWild takes no local edge: no bound from it
+                assert est <= real <= 3 * est, (run.robot.name, c.pair.joint, est, real)
 
 
 def test_cb_matches_the_full_fe_on_the_first_10_frequencies(run):
