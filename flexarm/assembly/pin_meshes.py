@@ -86,8 +86,8 @@ def pin_meshes(robot: Robot, path: PathType, mesh_size: float | None = None,
 
     The elements are those a build of ``robot`` at that size uses (read from the package
     cache after ``flexarm build``, meshed otherwise; a link that already names a file
-    for that size keeps its elements).  All files appear together, the robot file last,
-    or none of them.
+    for that size keeps its elements); of a Tet10 robot, their corners.  All files appear
+    together, the robot file last, or none of them.
 
     Parameters
     ----------
@@ -121,7 +121,10 @@ def pin_meshes(robot: Robot, path: PathType, mesh_size: float | None = None,
     if not h > 0:
         raise ValueError(f"mesh_size must be > 0 m, got {h:g}")
     folder = pinned_folder(path)
-    meshed = [(i, meshed_link(lk, h, 1, progress, robot.options.mesher))
+    # at the robot's element order: a Tet10 build's corners are the Tet4 file (a pinned
+    # Tet4 file serves both orders), where meshing Tet4 apart would give other elements
+    order = robot.options.element_order
+    meshed = [(i, meshed_link(lk, h, order, progress, robot.options.mesher))
               for i, lk in enumerate(robot.links) if lk.mesh is not None]
     files = tuple(folder / _file_name(robot.links[i].name, h) for i, _ in meshed)
     links = list(robot.links)
@@ -133,7 +136,7 @@ def pin_meshes(robot: Robot, path: PathType, mesh_size: float | None = None,
     text = dumps(to_dict(pinned, path.resolve().parent))
     with atomic_files(path, *files) as (toml_tmp, *mesh_tmps):
         for (_, made), tmp in zip(meshed, mesh_tmps, strict=True):
-            write_volume_mesh(tmp, made.mesh)
+            write_volume_mesh(tmp, made.mesh.to_tet4())
         toml_tmp.write_text(text)
     return PinnedMeshes(path, h, tuple(robot.links[i].name for i, _ in meshed),
                         tuple(made.mesher for _, made in meshed),

@@ -106,3 +106,16 @@ def test_a_pin_file_that_is_not_toml_is_refused_before_any_meshing(tetwild_arm, 
         f"flexarm build: error: --pin: {tmp_path / 'arm.urdf'}: the pinned robot file must "
         "be a .toml"]
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_tet10_robot_pins_the_corners_of_its_elements(demo_robot, tmp_path):
+    import dataclasses
+
+    tet10 = dataclasses.replace(demo_robot, options=dataclasses.replace(
+        demo_robot.options, element_order=2))
+    pinned = pin_meshes(tet10, tmp_path / "arm10.toml", 0.03)
+    for link, file in zip(demo_robot.links, pinned.files, strict=True):
+        shipped, written = read_volume_mesh(link.volume_meshes[0.03]), read_volume_mesh(file)
+        assert written.order == 1
+        np.testing.assert_array_equal(written.points, shipped.points)
+        np.testing.assert_array_equal(written.tets, shipped.tets)
