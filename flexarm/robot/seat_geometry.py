@@ -20,7 +20,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..fe.typing import FloatArray
-from ..meshes.tolerances import tol as mesh_tol
 from ..reduction.interfaces import axis_frame
 from ..reduction.tolerances import tol as red_tol
 from .seat_sample import SurfaceSample
@@ -33,7 +32,8 @@ __all__ = ["ENVELOPE_MARGIN", "MESH_MARGIN", "NODE_AREA", "R_PROBE", "SECTORS", 
 SECTORS = 12
 #: Rings are looked for within this share of the link's bounding-box diagonal [-].
 R_PROBE = 0.4
-#: Margin = max(ENVELOPE_MARGIN x pytetwild envelope x diagonal, MESH_MARGIN x mesh size).
+#: Margin = max(ENVELOPE_MARGIN x fTetWild's envelope (:func:`~flexarm.meshes.tetwild.envelope`)
+#: x diagonal, MESH_MARGIN x mesh size).
 ENVELOPE_MARGIN = 3.0
 MESH_MARGIN = 0.1
 #: Surface area of a tet mesh per surface node, in units of h^2 (equilateral triangles).
@@ -306,7 +306,9 @@ class SeatFinder:
 
 def seat_margin(sample: SurfaceSample, mesh_size: float) -> float:
     """Padding [m] of a region around its CAD points (see the module docstring)."""
-    return max(ENVELOPE_MARGIN * mesh_tol.tet_envelope * sample.diagonal,
+    from ..meshes.tetwild import envelope
+
+    return max(ENVELOPE_MARGIN * envelope(sample.diagonal, mesh_size) * sample.diagonal,
                MESH_MARGIN * mesh_size)
 
 
