@@ -5,9 +5,9 @@ robots) takes the deterministic one wherever the CAD allows, so that the same ro
 gives the same model: Gmsh on a closed, consistently wound surface (one whose sheets
 touch or cross each other is replaced by the surface of its union:
 :mod:`.self_intersections`); fTetWild only for dirty CAD (an open or inconsistently
-wound surface, one whose union cannot be formed, or a surface Gmsh fails on), with the
-reason in :attr:`SurfaceMesh.note`, where Gmsh meshing the volume on its pre-mesh (no
-remesh of the surface) is named too.
+wound surface, one whose union cannot be formed, or a surface Gmsh fails on: then the
+union, where there is one), with the reason in :attr:`SurfaceMesh.note`, where Gmsh
+meshing the volume on its pre-mesh (no remesh of the surface) is named too.
 
 Under ``"auto"`` the choice is kept in the package cache (``mesher-choice``) with the key
 of the mesh it gave, so a warm run neither checks the surface nor meshes again.
@@ -151,8 +151,12 @@ def _auto(surface, size, optimize, order, cache, name, progress,
     # one line on stderr: the user learns why this part will not mesh twice alike
     warnings.warn(f"{name}: meshed by fTetWild ({note}): not reproducible between fresh "
                   f"caches", stacklevel=4)
-    mesh = tetrahedralize(surface, size, optimize, order, cache, name, progress)
-    return mesh, "tetwild", note, tet_cache_key(surface.vertices, surface.faces, size, optimize,
+    # the union where there is one: the same solid without the faces of overlapping
+    # bodies inside it, which fTetWild would refine along (the UR10's upper arm: 22 CPU-s
+    # and 18,204 tetrahedra instead of 36 CPU-s and 26,560)
+    solid = surface if clean is None else clean
+    mesh = tetrahedralize(solid, size, optimize, order, cache, name, progress)
+    return mesh, "tetwild", note, tet_cache_key(solid.vertices, solid.faces, size, optimize,
                                                 order)
 
 

@@ -73,7 +73,7 @@ from .gmsh_model import (
     gmsh_settings,
 )
 from .local_size import LocalSize, local_sizes_key, size_callback
-from .quality import dihedral_angles
+from .quality import dihedral_angles, triangle_min_angles
 from .tet_cache import cached_tetrahedralization, estimated_tets
 from .tetwild import _compact
 from .tolerances import tol
@@ -158,10 +158,25 @@ def _remeshed(gmsh, vertices, faces, labels, size, fraction, optimize, local=())
 
 
 def _on_premesh(gmsh, vertices, faces, labels, size, fraction, optimize, local=()):
-    """The volume meshed on the pre-mesh surface itself (no reparametrisation)."""
+    """The volume meshed on the pre-mesh surface itself (no reparametrisation), unless a
+    pre-mesh triangle is a needle (:func:`_refuse_needles`)."""
     with _session(gmsh):
         _premesh(gmsh, vertices, faces, labels, fraction * size, fraction, local)
+        _refuse_needles(gmsh)
         return _volume(gmsh, size, optimize)
+
+
+def _refuse_needles(gmsh) -> None:
+    """Fail before the volume when a pre-mesh triangle has an angle below
+    ``tol.premesh_needle_deg``: every tetrahedron on it would be a sliver, which the
+    volume on the pre-mesh refuses anyway (the CAD's slivers of a union, where two bodies
+    meet at a grazing angle, are kept as facets of their own)."""
+    points, triangles = _mesh_arrays(gmsh, 2)
+    angles = triangle_min_angles(points, triangles)
+    n_needles = int((angles < tol.premesh_needle_deg).sum())
+    if n_needles:
+        raise _GmshFailed(f"{n_needles} needle triangles in the pre-mesh (smallest angle "
+                          f"{angles.min():.2g} deg)")
 
 
 def _oriented(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -179,6 +194,12 @@ def _oriented(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndar
 _PREMESH = "volume on the pre-mesh"
 #: The tries of :func:`_run`, by name (a child process calls them by name).
 _ATTEMPTS = {"remesh": _remeshed, _PREMESH: _on_premesh}
+#: Remesh failures that come from the patches Gmsh classifies the facets into, which are
+#: the same at every pre-mesh edge (a pre-mesh splits planar facets into coplanar
+#: triangles, so the sharp edges between them stay where they were): after one, the other
+#: remesh tries are skipped (the published UR10's hulls: all three fail alike).
+_FACET_FAILURES = ("Wrong topology",)
+_SKIPPED = "skipped (the same patches at every pre-mesh edge)"
 
 
 def _gmsh_try(how: str, vertices, faces, labels, size, fraction, optimize, local):
@@ -212,16 +233,23 @@ def _run(surface, size: float, optimize: bool, name: str, report: Progress,
     (or whose process dies) has failed like one Gmsh refuses.  With ``local`` sizes a try
     that gives zero-volume elements counts as failed too: the grading from a fine seat to
     the coarse edge can flatten one (the M-20iA's link_6 at 80 mm), and the next pre-mesh
-    is as deterministic as the first.  The volume on the pre-mesh fails with a single
-    sliver: the pre-mesh keeps every CAD triangle of a curved face (a level-set cavity's
-    thousands), and fTetWild meshes such a surface better (the UR10's upper arm: 8,695
-    slivers in 78,405 tetrahedra)."""
+    is as deterministic as the first.  A remesh that fails for its patches
+    (``_FACET_FAILURES``) is not tried at another pre-mesh edge.  The volume on the
+    pre-mesh fails with a single sliver, and before it is meshed with a needle triangle in
+    the pre-mesh (:func:`_refuse_needles`): the pre-mesh keeps every CAD triangle of a
+    curved face (a level-set cavity's thousands), and fTetWild meshes such a surface
+    better (the UR10's upper arm: 8,695 slivers in 78,405 tetrahedra)."""
     vertices = np.asarray(surface.vertices, dtype=np.float64)
     faces = np.asarray(surface.faces, dtype=np.int64)
     labels = _facet_labels(surface)
     tries = [("remesh", f) for f in PREMESH_FRACTIONS] + [(_PREMESH, PREMESH_FRACTIONS[0])]
     failures = []
     for i, (how, fraction) in enumerate(tries, start=1):
+        if how == "remesh" and failures and failures[-1].startswith((*_FACET_FAILURES,
+                                                                      _SKIPPED)):
+            failures.append(_SKIPPED)
+            report(f"{name}: gmsh try {i}/{len(tries)}: {_SKIPPED}")
+            continue
         budget = try_cpu_seconds(surface, size, fraction)
         report(f"{name}: gmsh try {i}/{len(tries)}: {how} (pre-mesh edge {fraction * size:.3g} "
                f"m, at most {budget:.0f} CPU-s)")

@@ -13,7 +13,8 @@ import numpy as np
 from ..fe.mesh import TetMesh
 from .tolerances import tol
 
-__all__ = ["QualityReport", "mesh_quality", "dihedral_angles", "radius_ratios"]
+__all__ = ["QualityReport", "mesh_quality", "dihedral_angles", "radius_ratios",
+           "triangle_min_angles"]
 
 # Face k is the face opposite corner k, wound so its normal points out of a
 # positively oriented tetrahedron.
@@ -61,6 +62,30 @@ def dihedral_angles(points: np.ndarray, tets: np.ndarray) -> np.ndarray:
     angles = np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
     flat = (length[:, _FACE_PAIRS[:, 0], 0] == 0) | (length[:, _FACE_PAIRS[:, 1], 0] == 0)
     return np.where(flat, 0.0, angles)
+
+
+def triangle_min_angles(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Smallest interior angle [deg] of every triangle (0 where a side has no length).
+
+    A tetrahedron built on a surface triangle whose smallest angle is small has a small
+    dihedral angle too: as the triangle's corners fall on one line (or two of them on one
+    point), two of the tetrahedron's faces through the fourth corner fall on one plane.
+
+    Examples
+    --------
+    >>> p = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.01, 0.0]])
+    >>> triangle_min_angles(p, np.array([[0, 1, 2], [0, 1, 3]])).round(3).tolist()
+    [45.0, 1.146]
+    """
+    c = np.asarray(points, dtype=np.float64)[np.asarray(triangles)]  # (k, 3 corners, 3)
+    sides = np.roll(c, -1, axis=1) - c  # side i runs from corner i to corner i + 1
+    length = np.linalg.norm(sides, axis=2)
+    # the angle at corner i lies between side i and the reversed side i - 1
+    cos = -np.einsum("kij,kij->ki", sides, np.roll(sides, 1, axis=1))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos = cos / (length * np.roll(length, 1, axis=1))
+    angles = np.degrees(np.arccos(np.clip(np.nan_to_num(cos, nan=1.0), -1.0, 1.0)))
+    return np.where((length > 0).all(axis=1), angles.min(axis=1), 0.0)
 
 
 def radius_ratios(points: np.ndarray, tets: np.ndarray) -> np.ndarray:

@@ -26,6 +26,11 @@ class Tolerances:
     #: (``TETS_PER_SECOND``); the M-20iA's links at 30 mm take 2.7-13.8 CPU-s, 7.8 to 51
     #: times less than their budgets of 35-277 CPU-s (child start included, 2026-11-27).
     gmsh_try_cpu_per_element: float = 0.0125
+    #: Gmsh's volume on the pre-mesh is not meshed when a pre-mesh triangle has an angle
+    #: below this [deg]: a tetrahedron on it is a sliver (the published UR10's united
+    #: hulls and hollowed shells at 30 mm: 2 to 3,823 such triangles per link, and then
+    #: 4 to 8,695 slivers below ``sliver_dihedral_deg`` in every volume, 2026-12-07).
+    premesh_needle_deg: float = 2.0
     #: pytetwild envelope: allowed surface deviation / bounding-box diagonal ...
     tet_envelope: float = 1e-3
     #: ... or this share of the target edge, where that is larger: a mesh at that edge

@@ -84,3 +84,34 @@ def test_a_gmsh_failure_falls_back_to_tetwild(bar, monkeypatch):
     warm = mesh_surface(bar, EDGE, name="bar")
     assert warm.is_cached and warm.mesher == "tetwild"
     np.testing.assert_array_equal(warm.mesh.points, made.mesh.points)
+
+
+def test_after_a_gmsh_failure_ftetwild_meshes_the_union(monkeypatch):
+    """Two overlapping boxes in one surface (as published collision hulls come): where
+    Gmsh fails, fTetWild is given their union, the same solid without the faces inside
+    it (which it would refine along): 0.0015 m^3 enclosed once, where the two boxes'
+    surfaces enclose 0.002 m^3 together."""
+    from flexarm.meshes.self_intersections import crossings
+
+    a = trimesh.creation.box((0.2, 0.1, 0.05))
+    b = trimesh.creation.box((0.2, 0.1, 0.05),
+                             trimesh.transformations.translation_matrix([0.1, 0.0, 0.0]))
+    both = trimesh.util.concatenate([a, b])
+    given, original = [], auto_mesher.tetrahedralize
+
+    def fails(surface, size, *args, **kwargs):
+        raise MeshError("boxes: gmsh failed (try 1: PLC Error); try mesher='tetwild'")
+
+    def tetwild(surface, *args, **kwargs):
+        given.append(surface)
+        return original(surface, *args, **kwargs)
+
+    monkeypatch.setattr(auto_mesher, "_gmsh_mesh", fails)
+    monkeypatch.setattr(auto_mesher, "tetrahedralize", tetwild)
+    with pytest.warns(UserWarning, match=r"boxes: meshed by fTetWild"):
+        made = mesh_surface(both, EDGE, name="boxes", cache=False)
+    assert made.mesher == "tetwild"
+    assert float(abs(both.volume)) == pytest.approx(2e-3, rel=1e-9)
+    assert float(given[0].volume) == pytest.approx(1.5e-3, rel=1e-9)
+    assert len(crossings(given[0].vertices, given[0].faces)[1]) == 0
+    assert float(made.mesh.volumes().sum()) == pytest.approx(1.5e-3, rel=5e-3)

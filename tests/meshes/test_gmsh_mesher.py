@@ -11,6 +11,7 @@ import trimesh
 from flexarm.fe import assemble, dof_split, modes, node_dofs, select_nodes, shift_invert
 from flexarm.fe.errors import MeshError, MissingDependencyError
 from flexarm.meshes import (
+    dihedral_angles,
     mesh_part,
     mesh_quality,
     tetrahedralize_gmsh,
@@ -237,7 +238,75 @@ def test_a_pre_mesh_volume_with_slivers_is_refused(bar, monkeypatch):
         raise gmsh_mesher._GmshFailed("Wrong topology of boundary mesh for parametrization")
 
     monkeypatch.setattr(gmsh_mesher, "run_child", child)
-    with pytest.raises(MeshError, match=r"^bar: gmsh failed \(tries 1-3: Wrong topology of "
-                                        r"boundary mesh for parametrization; try 4: 1 sliver "
-                                        r"tetrahedra\); try mesher='tetwild'$"):
+    with pytest.raises(MeshError, match=r"^bar: gmsh failed \(try 1: Wrong topology of "
+                                        r"boundary mesh for parametrization; tries 2-3: "
+                                        r"skipped \(the same patches at every pre-mesh "
+                                        r"edge\); try 4: 1 sliver tetrahedra\); "
+                                        r"try mesher='tetwild'$"):
         tetrahedralize_gmsh(bar, 0.05, cache=False, name="bar")
+
+
+def test_a_remesh_that_fails_for_its_patches_is_not_tried_at_other_edges(bar, monkeypatch):
+    """Gmsh's patches come from the sharp edges between planar facets, which every
+    pre-mesh edge keeps: after a topology failure the ladder goes straight to the volume
+    on the pre-mesh (which here works), and a stall still moves to the next edge."""
+    from flexarm.meshes import gmsh_mesher
+
+    ran = []
+
+    def child(function, args, cpu_seconds, name):
+        ran.append((args[0], args[5]))
+        if args[0] == "remesh":
+            raise gmsh_mesher._GmshFailed("Wrong topology of boundary mesh for parametrization")
+        return gmsh_mesher._gmsh_try(*args)
+
+    monkeypatch.setattr(gmsh_mesher, "run_child", child)
+    said = []
+    mesh = tetrahedralize_gmsh(bar, 0.025, cache=False, name="bar", progress=said.append)
+    assert ran == [("remesh", 0.5), (gmsh_mesher._PREMESH, 0.5)]
+    assert sum("skipped (the same patches" in s for s in said) == 2
+    _check(mesh, bar, volume_rtol=1e-9)
+    budgets = _stalls_on({1}, monkeypatch)  # a stall is no property of the patches
+    tetrahedralize_gmsh(bar, 0.025, cache=False, name="bar")
+    assert len(budgets) == 2  # try 2 remeshed
+
+
+@pytest.fixture(scope="module")
+def stepped():
+    """Two boxes united whose side faces stand 10 um apart: the union keeps a facet
+    10 um wide, as CAD unions do where two bodies almost line up."""
+    from flexarm.meshes.union import union
+
+    lower = trimesh.creation.box((0.2, 0.1, 0.05))
+    upper = trimesh.creation.box((0.1, 0.1, 0.05), trimesh.transformations.translation_matrix(
+        [0.05 + 1e-5, 0.0, 0.04]))
+    return union([lower, upper])
+
+
+def _premesh_try(surface, size):
+    from flexarm.meshes import gmsh_mesher
+    from flexarm.meshes.gmsh_model import _facet_labels
+
+    return gmsh_mesher._gmsh_try(gmsh_mesher._PREMESH, np.asarray(surface.vertices, float),
+                                 np.asarray(surface.faces, np.int64), _facet_labels(surface),
+                                 size, 0.5, True, ())
+
+
+def test_a_needle_in_the_pre_mesh_is_refused_before_its_volume(stepped, monkeypatch):
+    """The 10 um facet pre-meshes into needle triangles; the volume on them would hold
+    slivers (checked with the refusal off), so it is not meshed."""
+    from dataclasses import replace
+
+    from flexarm.meshes import gmsh_mesher
+
+    with pytest.raises(gmsh_mesher._GmshFailed,
+                       match=r"^\d+ needle triangles in the pre-mesh \(smallest angle "
+                             r"0\.0\d+ deg\)$"):
+        _premesh_try(stepped, 0.02)
+    monkeypatch.setattr(gmsh_mesher, "tol", replace(gmsh_mesher.tol, premesh_needle_deg=0.0))
+    points, tets = _premesh_try(stepped, 0.02)
+    smallest = dihedral_angles(points, tets).min(axis=1)
+    assert (smallest < gmsh_mesher.tol.sliver_dihedral_deg).sum() > 10
+    # the remesh of the same surface works: the needle only ends the last try
+    assert tetrahedralize_gmsh(stepped, 0.02, cache=False).n_tets > 0
+

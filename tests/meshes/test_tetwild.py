@@ -47,7 +47,11 @@ def test_cylinder_through_api_tet10(tmp_path, monkeypatch):
     messages = []
     mesh = tetrahedralize(rod, 0.02, order=2, cache=False, name="rod", progress=messages.append)
     assert mesh.order == 2
-    assert mesh.volumes().sum() == pytest.approx(rod.volume, rel=2e-3)  # fTetWild's envelope
+    # the surface stays within fTetWild's envelope of the CAD: the volume within it times
+    # the area (0.2 % seen, 4.2 % the bound: the envelope is a 30th of the edge here)
+    diagonal = float(np.linalg.norm(np.ptp(rod.vertices, axis=0)))
+    deviation = tetwild.envelope(diagonal, 0.02) * diagonal  # [m]
+    assert abs(mesh.volumes().sum() - rod.volume) <= deviation * rod.area
     assert (mesh.volumes() > 0).all()
     assert os.getcwd() == str(work) and list(work.iterdir()) == []  # no __tracked_surface.stl
     assert messages[0].startswith("rod: tetrahedralizing, try 1/3 (edge 0.02 m")
