@@ -42,7 +42,8 @@ METIS, OpenCASCADE and ParaView): it is an optional dependency, imported here
 only when used.
 
 The settings, the Gmsh session and the planar pre-mesh model live in
-:mod:`.gmsh_model`; this module runs the meshing passes and checks the result.
+:mod:`.gmsh_model`, the passes each try runs in :mod:`.gmsh_passes`; this module runs
+the ladder of tries and checks the result.
 """
 
 from __future__ import annotations
@@ -58,22 +59,18 @@ from ..fe.mesh import TetMesh
 from ..fe.processes import ChildTimeout, run_child
 from ..fe.tolerances import tol as fe_tol
 from .gmsh_model import (
-    _OPTIMIZE_OPTIONS,
-    _SIZE_OPTION,
     COPLANAR_ANGLE,
     FEATURE_ANGLE_DEG,
     FLATNESS,
     PREMESH_FRACTIONS,
-    _call,
     _facet_labels,
     _GmshFailed,
     _import_gmsh,
-    _planar_brep,
-    _session,
     gmsh_settings,
 )
-from .local_size import LocalSize, local_sizes_key, size_callback
-from .quality import dihedral_angles, triangle_min_angles
+from .gmsh_passes import PREMESH, gmsh_try
+from .local_size import LocalSize, local_sizes_key
+from .quality import dihedral_angles
 from .tet_cache import cached_tetrahedralization, estimated_tets
 from .tetwild import _compact
 from .tolerances import tol
@@ -93,92 +90,6 @@ logger = logging.getLogger(__name__)
 Progress = Callable[[str], None]
 
 
-# ----------------------------------------------------------------------- meshing
-def _mesh_arrays(gmsh, element_type: int) -> tuple[np.ndarray, np.ndarray]:
-    """All nodes (in tag order) and the elements of one type as 0-based node indices."""
-    tags, coords, _ = gmsh.model.mesh.getNodes()
-    _, connectivity = gmsh.model.mesh.getElementsByType(element_type)
-    tags = np.asarray(tags, dtype=np.int64)
-    order = np.argsort(tags, kind="stable")
-    index = np.full(int(tags.max()) + 1 if len(tags) else 1, -1, dtype=np.int64)
-    index[tags[order]] = np.arange(len(tags))
-    points = np.asarray(coords, dtype=np.float64).reshape(-1, 3)[order]
-    n_corners = {2: 3, 4: 4}[element_type]
-    return points, index[np.asarray(connectivity, dtype=np.int64).reshape(-1, n_corners)]
-
-
-def _premesh(gmsh, vertices, faces, labels, size: float, fraction: float = 1.0,
-             local=()) -> int:
-    """Pass 1: well-shaped triangles on the exact planar facets (a volume is defined too),
-    with ``local`` sizes (:class:`~.local_size.LocalSize`) scaled by the pre-mesh
-    ``fraction`` where this surface is the final one."""
-    gmsh.model.add("flexarm-premesh")
-    if local:
-        gmsh.model.mesh.setSizeCallback(size_callback(local, fraction))
-    n_split = _planar_brep(gmsh, vertices, faces, labels)
-    if n_split:
-        logger.info("%d facets with a pinched outline pre-meshed triangle by triangle", n_split)
-    gmsh.option.setNumber(_SIZE_OPTION, size)
-    _call(gmsh, gmsh.model.mesh.generate, 2)
-    return n_split
-
-
-def _volume(gmsh, size: float, optimize: bool) -> tuple[np.ndarray, np.ndarray]:
-    """Mesh the current model's volume; its nodes and tetrahedra."""
-    gmsh.option.setNumber(_SIZE_OPTION, size)
-    for option in _OPTIMIZE_OPTIONS:
-        gmsh.option.setNumber(option, int(bool(optimize)))
-    _call(gmsh, gmsh.model.mesh.generate, 3, quiet=True)
-    points, tets = _mesh_arrays(gmsh, 4)
-    if len(tets) == 0:
-        raise _GmshFailed("no tetrahedra")
-    return points, tets
-
-
-def _remeshed(gmsh, vertices, faces, labels, size, fraction, optimize, local=()):
-    """Pass 1, then pass 2: classify the pre-mesh, remesh the patches, mesh the volume."""
-    with _session(gmsh):
-        # the pre-mesh only carries the geometry here: the same one with or without local
-        # sizes, so that they refine the seats and change nothing else
-        _premesh(gmsh, vertices, faces, labels, fraction * size)
-        points, triangles = _mesh_arrays(gmsh, 2)
-        gmsh.model.add("flexarm-remesh")
-        if local:
-            gmsh.model.mesh.setSizeCallback(size_callback(local))
-        surface = gmsh.model.addDiscreteEntity(2)
-        gmsh.model.mesh.addNodes(2, surface, np.arange(1, len(points) + 1), points.ravel())
-        gmsh.model.mesh.addElementsByType(surface, 2, [], (triangles + 1).ravel())
-        angle = np.radians(FEATURE_ANGLE_DEG)
-        _call(gmsh, gmsh.model.mesh.classifySurfaces, angle, True, True, np.pi)
-        _call(gmsh, gmsh.model.mesh.createGeometry)
-        patches = [tag for _, tag in gmsh.model.getEntities(2)]
-        gmsh.model.geo.addVolume([gmsh.model.geo.addSurfaceLoop(patches)])
-        gmsh.model.geo.synchronize()
-        return _volume(gmsh, size, optimize)
-
-
-def _on_premesh(gmsh, vertices, faces, labels, size, fraction, optimize, local=()):
-    """The volume meshed on the pre-mesh surface itself (no reparametrisation), unless a
-    pre-mesh triangle is a needle (:func:`_refuse_needles`)."""
-    with _session(gmsh):
-        _premesh(gmsh, vertices, faces, labels, fraction * size, fraction, local)
-        _refuse_needles(gmsh)
-        return _volume(gmsh, size, optimize)
-
-
-def _refuse_needles(gmsh) -> None:
-    """Fail before the volume when a pre-mesh triangle has an angle below
-    ``tol.premesh_needle_deg``: every tetrahedron on it would be a sliver, which the
-    volume on the pre-mesh refuses anyway (the CAD's slivers of a union, where two bodies
-    meet at a grazing angle, are kept as facets of their own)."""
-    points, triangles = _mesh_arrays(gmsh, 2)
-    angles = triangle_min_angles(points, triangles)
-    n_needles = int((angles < tol.premesh_needle_deg).sum())
-    if n_needles:
-        raise _GmshFailed(f"{n_needles} needle triangles in the pre-mesh (smallest angle "
-                          f"{angles.min():.2g} deg)")
-
-
 def _oriented(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Unused nodes dropped, negative elements turned (VTK order, positive volumes)."""
     points, tets = _compact(points, tets)
@@ -190,22 +101,12 @@ def _oriented(points: np.ndarray, tets: np.ndarray) -> tuple[np.ndarray, np.ndar
     return points, tets
 
 
-#: The last try of :func:`_run`: no remesh of the surface.
-_PREMESH = "volume on the pre-mesh"
-#: The tries of :func:`_run`, by name (a child process calls them by name).
-_ATTEMPTS = {"remesh": _remeshed, _PREMESH: _on_premesh}
 #: Remesh failures that come from the patches Gmsh classifies the facets into, which are
 #: the same at every pre-mesh edge (a pre-mesh splits planar facets into coplanar
 #: triangles, so the sharp edges between them stay where they were): after one, the other
 #: remesh tries are skipped (the published UR10's hulls: all three fail alike).
 _FACET_FAILURES = ("Wrong topology",)
 _SKIPPED = "skipped (the same patches at every pre-mesh edge)"
-
-
-def _gmsh_try(how: str, vertices, faces, labels, size, fraction, optimize, local):
-    """One try of :func:`_run`, run in a child process: its nodes and tetrahedra."""
-    return _ATTEMPTS[how](_import_gmsh(), vertices, faces, labels, size, fraction, optimize,
-                          local)
 
 
 def try_cpu_seconds(surface, size: float, fraction: float) -> float:
@@ -242,7 +143,7 @@ def _run(surface, size: float, optimize: bool, name: str, report: Progress,
     vertices = np.asarray(surface.vertices, dtype=np.float64)
     faces = np.asarray(surface.faces, dtype=np.int64)
     labels = _facet_labels(surface)
-    tries = [("remesh", f) for f in PREMESH_FRACTIONS] + [(_PREMESH, PREMESH_FRACTIONS[0])]
+    tries = [("remesh", f) for f in PREMESH_FRACTIONS] + [(PREMESH, PREMESH_FRACTIONS[0])]
     failures = []
     for i, (how, fraction) in enumerate(tries, start=1):
         if how == "remesh" and failures and failures[-1].startswith((*_FACET_FAILURES,
@@ -255,17 +156,17 @@ def _run(surface, size: float, optimize: bool, name: str, report: Progress,
                f"m, at most {budget:.0f} CPU-s)")
         spent = _children_cpu()
         try:
-            points, tets = run_child(_gmsh_try, (how, vertices, faces, labels, size, fraction,
+            points, tets = run_child(gmsh_try, (how, vertices, faces, labels, size, fraction,
                                                  optimize, local),
                                      cpu_seconds=budget, name=f"{name}: gmsh try {i}")
             logger.info("%s: gmsh try %d took %.1f CPU-s of %.0f", name, i,
                         _children_cpu() - spent, budget)
             mesh = TetMesh(*_oriented(points, tets))
-            if local or how == _PREMESH:
+            if local or how == PREMESH:
                 problem, n_slivers, _ = _defects(mesh)
                 if problem is not None and local:
                     raise _GmshFailed(f"{problem} with local sizes")
-                if how == _PREMESH and (problem or n_slivers):
+                if how == PREMESH and (problem or n_slivers):
                     raise _GmshFailed(problem or f"{n_slivers} sliver tetrahedra")
         except (_GmshFailed, ChildTimeout, FlexarmError) as exc:
             why = str(exc).removeprefix(f"{name}: gmsh try {i}: ")
@@ -275,7 +176,7 @@ def _run(surface, size: float, optimize: bool, name: str, report: Progress,
             failures.append(why)
             continue
         fallback = ""
-        if how == _PREMESH:
+        if how == PREMESH:
             fallback = f"{how} surface ({_tries_text(failures)})"
             logger.warning("%s: gmsh meshed the %s", name, fallback)
         elif i > 1:

@@ -18,6 +18,7 @@ from flexarm.meshes import (
     tetrahedralizer,
     write_surface,
 )
+from flexarm.meshes import gmsh_passes
 from flexarm.meshes.primitives import bar_surface
 from flexarm.meshes.tet_cache import tet_cache_key
 
@@ -233,7 +234,7 @@ def test_a_pre_mesh_volume_with_slivers_is_refused(bar, monkeypatch):
     tets = np.vstack([box.tets, box.n_nodes + np.arange(4)[None]])
 
     def child(function, args, cpu_seconds, name):
-        if args[0] == gmsh_mesher._PREMESH:
+        if args[0] == gmsh_passes.PREMESH:
             return points, tets
         raise gmsh_mesher._GmshFailed("Wrong topology of boundary mesh for parametrization")
 
@@ -258,12 +259,12 @@ def test_a_remesh_that_fails_for_its_patches_is_not_tried_at_other_edges(bar, mo
         ran.append((args[0], args[5]))
         if args[0] == "remesh":
             raise gmsh_mesher._GmshFailed("Wrong topology of boundary mesh for parametrization")
-        return gmsh_mesher._gmsh_try(*args)
+        return gmsh_passes.gmsh_try(*args)
 
     monkeypatch.setattr(gmsh_mesher, "run_child", child)
     said = []
     mesh = tetrahedralize_gmsh(bar, 0.025, cache=False, name="bar", progress=said.append)
-    assert ran == [("remesh", 0.5), (gmsh_mesher._PREMESH, 0.5)]
+    assert ran == [("remesh", 0.5), (gmsh_passes.PREMESH, 0.5)]
     assert sum("skipped (the same patches" in s for s in said) == 2
     _check(mesh, bar, volume_rtol=1e-9)
     budgets = _stalls_on({1}, monkeypatch)  # a stall is no property of the patches
@@ -284,10 +285,9 @@ def stepped():
 
 
 def _premesh_try(surface, size):
-    from flexarm.meshes import gmsh_mesher
     from flexarm.meshes.gmsh_model import _facet_labels
 
-    return gmsh_mesher._gmsh_try(gmsh_mesher._PREMESH, np.asarray(surface.vertices, float),
+    return gmsh_passes.gmsh_try(gmsh_passes.PREMESH, np.asarray(surface.vertices, float),
                                  np.asarray(surface.faces, np.int64), _facet_labels(surface),
                                  size, 0.5, True, ())
 
@@ -297,16 +297,14 @@ def test_a_needle_in_the_pre_mesh_is_refused_before_its_volume(stepped, monkeypa
     slivers (checked with the refusal off), so it is not meshed."""
     from dataclasses import replace
 
-    from flexarm.meshes import gmsh_mesher
-
-    with pytest.raises(gmsh_mesher._GmshFailed,
+    with pytest.raises(gmsh_passes._GmshFailed,
                        match=r"^\d+ needle triangles in the pre-mesh \(smallest angle "
                              r"0\.0\d+ deg\)$"):
         _premesh_try(stepped, 0.02)
-    monkeypatch.setattr(gmsh_mesher, "tol", replace(gmsh_mesher.tol, premesh_needle_deg=0.0))
+    monkeypatch.setattr(gmsh_passes, "tol", replace(gmsh_passes.tol, premesh_needle_deg=0.0))
     points, tets = _premesh_try(stepped, 0.02)
     smallest = dihedral_angles(points, tets).min(axis=1)
-    assert (smallest < gmsh_mesher.tol.sliver_dihedral_deg).sum() > 10
+    assert (smallest < gmsh_passes.tol.sliver_dihedral_deg).sum() > 10
     # the remesh of the same surface works: the needle only ends the last try
     assert tetrahedralize_gmsh(stepped, 0.02, cache=False).n_tets > 0
 
