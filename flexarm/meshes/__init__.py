@@ -1,45 +1,22 @@
 """CAD surface in -> checked, unit-scaled -> tetrahedra out (the ``meshes`` layer).
 
-Imports only :mod:`flexarm.fe`.
+Imports only :mod:`flexarm.fe`.  Each name below is imported from its module when first
+used (:func:`~flexarm.fe.lazy.lazy_exports`): reading a volume mesh or running one Gmsh
+try does not load trimesh.
 """
 
-from .auto_mesher import SurfaceMesh, cached_surface_mesh, mesh_surface
-from .gmsh_mesher import tetrahedralize_gmsh
-from .hollow import HollowShell, hollow_surface
-from .pipeline import MESHER_SETTINGS, MESHERS, mesh_part, tetrahedralizer
-from .primitives import bar_surface, cylinder_surface, hollow_link_surface, write_surface
-from .quality import QualityReport, dihedral_angles, mesh_quality, radius_ratios
-from .repair import check_surface, repair_surface
-from .surface import load_surface
-from .tetwild import tetrahedralize
-from .volume_io import read_volume_mesh, write_volume_mesh
-from .wall import bending_ratio, wall_for_mass
+from ..fe.lazy import lazy_exports
 
-__all__ = [
-    "MESHERS",
-    "MESHER_SETTINGS",
-    "SurfaceMesh",
-    "HollowShell",
-    "QualityReport",
-    "bar_surface",
-    "bending_ratio",
-    "cached_surface_mesh",
-    "check_surface",
-    "cylinder_surface",
-    "dihedral_angles",
-    "hollow_link_surface",
-    "hollow_surface",
-    "load_surface",
-    "mesh_surface",
-    "mesh_part",
-    "mesh_quality",
-    "radius_ratios",
-    "read_volume_mesh",
-    "repair_surface",
-    "tetrahedralize",
-    "tetrahedralize_gmsh",
-    "tetrahedralizer",
-    "wall_for_mass",
-    "write_surface",
-    "write_volume_mesh",
-]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    ".auto_mesher": ("SurfaceMesh", "cached_surface_mesh", "mesh_surface"),
+    ".gmsh_mesher": ("tetrahedralize_gmsh",),
+    ".hollow": ("HollowShell", "hollow_surface"),
+    ".pipeline": ("MESHER_SETTINGS", "MESHERS", "mesh_part", "tetrahedralizer"),
+    ".primitives": ("bar_surface", "cylinder_surface", "hollow_link_surface", "write_surface"),
+    ".quality": ("QualityReport", "dihedral_angles", "mesh_quality", "radius_ratios"),
+    ".repair": ("check_surface", "repair_surface"),
+    ".surface": ("load_surface",),
+    ".tetwild": ("tetrahedralize",),
+    ".volume_io": ("read_volume_mesh", "write_volume_mesh"),
+    ".wall": ("bending_ratio", "wall_for_mass"),
+})

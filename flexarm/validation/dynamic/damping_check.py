@@ -26,7 +26,6 @@ from pathlib import Path
 
 import numpy as np
 from scipy.optimize import nnls
-from scipy.stats import chi2 as chi2_dist
 
 from ...fe.plotting import pyplot, save_figure
 from ...fe.typing import PathType
@@ -190,6 +189,10 @@ def diagnose_damping(data: ModalData | PathType, robot: Robot | PathType | None 
     max_hz : float or None
         Leave out modes above this frequency [Hz] (an identification's band edge).
     """
+    # here, not at the top: scipy.stats takes 0.6 s to import, and most callers of this
+    # package never reach it
+    from scipy.stats import chi2 as chi2_dist
+
     modal, robot, arm, d, zeta = damping_inputs(data, robot, options, max_hz, pose)
     overlap = modal_overlap(modal.freq_hz, modal.damping_ratio, modal.poses)[d.row]
     sd = sigma_rel * zeta * (1.0 + tol.damping_overlap_widening * overlap)
