@@ -13,6 +13,7 @@ import logging
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg import lapack
 
 from ..fe.typing import ArrayLike, FloatArray
 from .batched import constant_stiffness, fast_tcp_compliance, has_constant_stiffness, mass_matrix
@@ -58,6 +59,17 @@ def _mass_form_eigh(K: FloatArray, M: FloatArray, vectors: bool):
     return lam, np.swapaxes(Linv, -1, -2) @ Y
 
 
+def _lower_inverse(L: FloatArray) -> FloatArray:
+    """``L^-1`` of a lower-triangular ``L`` (n, n) or (..., n, n): LAPACK's triangular
+    inverse for one matrix (a third of a general inverse's work), NumPy's for a stack."""
+    if L.ndim != 2:
+        return np.linalg.inv(L)
+    Linv, info = lapack.dtrtri(L, lower=1)
+    if info != 0:
+        raise np.linalg.LinAlgError(f"singular triangular factor (dtrtri info {info})")
+    return np.tril(Linv)
+
+
 def _generalized_eigh(K: FloatArray, M: FloatArray, vectors: bool = True):
     """Batched ``K phi = lambda M phi``: ascending ``lambda`` and mass-normalised ``phi``.
 
@@ -75,7 +87,7 @@ def _generalized_eigh(K: FloatArray, M: FloatArray, vectors: bool = True):
         L = np.linalg.cholesky(K)
     except np.linalg.LinAlgError:
         return _mass_form_eigh(K, M, vectors)
-    Linv = np.linalg.inv(L)
+    Linv = _lower_inverse(L)
     A = Linv @ M @ np.swapaxes(Linv, -1, -2)
     A = 0.5 * (A + np.swapaxes(A, -1, -2))
     if vectors:

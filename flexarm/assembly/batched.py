@@ -54,8 +54,8 @@ def _cached(arm: ArmModel, key: str, make):
 
 def has_constant_stiffness(arm: ArmModel) -> bool:
     """True when every body has one rotating node and ``K`` zero on its six rigid DOFs."""
-    return all(b.n_nodes == 1 and not np.any(b.K[:6]) and not np.any(b.K[:, :6])
-               for b in arm.bodies)
+    return _cached(arm, "_constant_stiffness", lambda: all(
+        b.n_nodes == 1 and not np.any(b.K[:6]) and not np.any(b.K[:, :6]) for b in arm.bodies))
 
 
 def constant_stiffness(arm: ArmModel) -> FloatArray:

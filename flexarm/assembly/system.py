@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..fe.geometry import cross
 from ..fe.typing import ArrayLike, FloatArray
 from ..robot.joints import DOF_NAMES, JointModel, joint_basis
 from ..robot.kinematics import Chain, link_frames
@@ -304,11 +305,11 @@ def _joint_tcp_columns(G: FloatArray, arm: ArmModel, c: int, R: FloatArray, t: F
     for j in chain.ancestors(c):
         i = j + 1
         RJ = R[..., i, :, :] @ joint_basis(chain.axes[j])
-        p = R[..., i, :, :] @ arm.bodies[i].node_positions[0] + t[..., i, :]
+        arm_tcp = p_tcp - (R[..., i, :, :] @ arm.bodies[i].node_positions[0] + t[..., i, :])
         for col, d in zip(joint_cols[j], arm.joints[j].free_dofs, strict=True):
             e = RJ[..., :, d % 3]
             if d < 3:
                 G[..., :3, col] = e
             else:
-                G[..., :3, col] = np.cross(e, p_tcp - p)
+                G[..., :3, col] = cross(e, arm_tcp)
                 G[..., 3:, col] = e

@@ -6,7 +6,7 @@ import numpy as np
 
 from .typing import ArrayLike, FloatArray
 
-__all__ = ["skew", "rigid_transport"]
+__all__ = ["skew", "cross", "rigid_transport"]
 
 
 def skew(r: ArrayLike) -> FloatArray:
@@ -23,6 +23,22 @@ def skew(r: ArrayLike) -> FloatArray:
     S[..., 1, 0], S[..., 1, 2] = r[..., 2], -r[..., 0]
     S[..., 2, 0], S[..., 2, 1] = -r[..., 1], r[..., 0]
     return S
+
+
+def cross(a: FloatArray, b: FloatArray) -> FloatArray:
+    """(..., 3) ``a x b`` of two stacks of 3-vectors (broadcast), as ``np.cross`` gives it
+    without its axis handling, which costs more than the product on the small stacks of a
+    pose loop.
+
+    Examples
+    --------
+    >>> cross(np.array([1.0, 0.0, 0.0]), np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 2.0]]))
+    array([[ 0.,  0.,  1.],
+           [ 0., -2.,  0.]])
+    """
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
 
 
 def rigid_transport(r: ArrayLike) -> FloatArray:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -109,10 +110,13 @@ class JointModel:
             [self.axial, self.radial, self.radial, self.torsion, self.tilt, self.tilt_2], float
         )
 
-    @property
+    @cached_property
     def free_dofs(self) -> np.ndarray:
-        """(k,) int: joint-frame DOFs that are coordinates of the assembled system."""
-        return np.flatnonzero(np.isfinite(self.stiffness))
+        """(k,) int: joint-frame DOFs that are coordinates of the assembled system
+        (read-only: kept with the frozen joint, which every pose's assembly asks)."""
+        dofs = np.flatnonzero(np.isfinite(self.stiffness))
+        dofs.setflags(write=False)
+        return dofs
 
     @property
     def free_stiffness(self) -> FloatArray:
@@ -132,11 +136,24 @@ def joint_basis(axis: ArrayLike) -> FloatArray:
     """(3, 3) right-handed orthonormal basis with columns (axis, radial1, radial2).
 
     ``radial1`` is the unit vector of the coordinate axis least aligned with ``axis``
-    made orthogonal to it, so the basis is deterministic.
+    made orthogonal to it, so the basis is deterministic.  Read-only, and the same array
+    for the same axis: a chain's axes are fixed, and every pose's assembly asks for them.
+
+    Examples
+    --------
+    >>> joint_basis([0.0, 0.0, 2.0]).tolist()
+    [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]
     """
-    a = np.asarray(axis, dtype=float)
+    return _basis(tuple(float(v) for v in np.asarray(axis, dtype=float).reshape(3)))
+
+
+@lru_cache(maxsize=1024)
+def _basis(axis: tuple[float, float, float]) -> FloatArray:
+    a = np.asarray(axis)
     a = a / np.linalg.norm(a)
     helper = np.eye(3)[int(np.argmin(np.abs(a)))]
     b = helper - (helper @ a) * a
     b /= np.linalg.norm(b)
-    return np.column_stack([a, b, np.cross(a, b)])
+    basis = np.column_stack([a, b, np.cross(a, b)])
+    basis.setflags(write=False)
+    return basis
