@@ -32,8 +32,9 @@ LAYERS = {"fe": 0, "meshes": 1, "reduction": 1, "robot": 2, "assembly": 3, "vali
 
 #: package -> {member: rank}; a member is a direct sub-package or module of the package
 SUBLAYERS = {
-    "flexarm.validation": {"tolerances": 0, "models": 0, "data": 1, "static": 2, "dynamic": 3,
-                           "lab": 4, "planning": 4, "diagnosis": 4, "workflow": 5},
+    "flexarm.validation": {"tolerances": 0, "models": 0, "distributions": 0, "data": 1,
+                           "static": 2, "dynamic": 3, "lab": 4, "planning": 4, "diagnosis": 4,
+                           "workflow": 5},
     "flexarm.studies": {"tolerances": 0, "plots": 0, "contact": 1, "*": 2, "exudyn": 3},
     "flexarm.studies.exudyn": {"bodies": 0, "damping": 0, "script": 0, "script_standalone": 0,
                                "model": 1, "impulse": 2, "path": 2, "standalone": 2},

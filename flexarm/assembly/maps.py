@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..fe.files import atomic_path, writes_folder
-from ..fe.plotting import pyplot
+from ..fe.plotting import picture_from_inputs, pyplot
 from ..fe.typing import ArrayLike, FloatArray
 from .analyses import natural_frequencies, tcp_compliance
 from .system import ArmModel, is_rigid_arm
@@ -297,47 +297,58 @@ def plot_map(m: JointSpaceMap, folder, surfaces: bool = True) -> list[Path]:
     left out of the colour range.  Each title names the model and the pose, and a star
     marks the pose the map was varied from.  The numbers are those of :func:`write_csv`.
     """
-    plt = pyplot()
-
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    ja, jb = (j + 1 for j in m.joints)
-    A, B = np.meshgrid(np.degrees(m.a), np.degrees(m.b), indexing="ij")
     fields = [(f"K{d}{d}", m.stiffness[..., i] * 1e-3, "N/mm", True)
               for i, d in enumerate(DIRECTIONS)]
     if m.freq_hz is not None:
         fields.append(("f1", m.freq_hz, "Hz", False))
     out = []
     for name, Z, unit, is_log in fields:
-        fig, ax = plt.subplots(figsize=(6, 4.5))
-        pc = _heat(ax, m, Z, is_log)
-        fig.colorbar(pc, ax=ax, label=f"{name} [{unit}]" + (" (log scale)" if is_log else ""))
-        ax.set_xlabel(f"q{jb} [deg]")
-        ax.set_ylabel(f"q{ja} [deg]")
-        ax.set_title(m.title(name), fontsize=10)
-        fig.tight_layout()
-        p = folder / f"map_{name}_heat.png"
-        fig.savefig(p, dpi=100)
-        plt.close(fig)
-        out.append(p)
-        if not surfaces:
-            continue
-        fig = plt.figure(figsize=(6, 4.5))
-        ax3 = fig.add_subplot(projection="3d")
-        Zs = np.where(m.is_masked, np.nan, Z)
-        ax3.plot_surface(B, A, np.log10(Zs) if is_log else Zs, cmap="viridis")
-        ax3.set_xlabel(f"q{jb} [deg]")
-        ax3.set_ylabel(f"q{ja} [deg]")
-        ax3.set_zlabel(f"log10 {name} [{unit}]" if is_log else f"{name} [{unit}]")
-        what = ("near-singular or colliding" if m.collides is not None and m.collides.any()
-                else "near-singular")
-        ax3.set_title(m.title(name) + (f" ({what} poses left out)"
-                                       if m.is_masked.any() else ""), fontsize=9)
-        p3 = folder / f"map_{name}_surface.png"
-        fig.savefig(p3, dpi=100)
-        plt.close(fig)
-        out.append(p3)
+        out.append(_heat_png(folder / f"map_{name}_heat.png", m, name, Z, unit, is_log))
+        if surfaces:
+            out.append(_surface_png(folder / f"map_{name}_surface.png", m, name, Z, unit,
+                                    is_log))
     return out
+
+
+@picture_from_inputs
+def _heat_png(path, m: JointSpaceMap, name: str, Z, unit: str, is_log: bool) -> Path:
+    """One heat map of :func:`plot_map`: ``Z`` over the grid of ``m`` in ``unit``."""
+    plt = pyplot()
+    ja, jb = (j + 1 for j in m.joints)
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    pc = _heat(ax, m, Z, is_log)
+    fig.colorbar(pc, ax=ax, label=f"{name} [{unit}]" + (" (log scale)" if is_log else ""))
+    ax.set_xlabel(f"q{jb} [deg]")
+    ax.set_ylabel(f"q{ja} [deg]")
+    ax.set_title(m.title(name), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return Path(path)
+
+
+@picture_from_inputs
+def _surface_png(path, m: JointSpaceMap, name: str, Z, unit: str, is_log: bool) -> Path:
+    """One 3-D surface of :func:`plot_map` (masked poses left out)."""
+    plt = pyplot()
+    ja, jb = (j + 1 for j in m.joints)
+    A, B = np.meshgrid(np.degrees(m.a), np.degrees(m.b), indexing="ij")
+    fig = plt.figure(figsize=(6, 4.5))
+    ax3 = fig.add_subplot(projection="3d")
+    Zs = np.where(m.is_masked, np.nan, Z)
+    ax3.plot_surface(B, A, np.log10(Zs) if is_log else Zs, cmap="viridis")
+    ax3.set_xlabel(f"q{jb} [deg]")
+    ax3.set_ylabel(f"q{ja} [deg]")
+    ax3.set_zlabel(f"log10 {name} [{unit}]" if is_log else f"{name} [{unit}]")
+    what = ("near-singular or colliding" if m.collides is not None and m.collides.any()
+            else "near-singular")
+    ax3.set_title(m.title(name) + (f" ({what} poses left out)"
+                                   if m.is_masked.any() else ""), fontsize=9)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return Path(path)
 
 
 @writes_folder()

@@ -87,6 +87,19 @@ def save_figure(fig, path, dpi: int = 100, tight: bool = True, **savefig) -> Pat
     return path
 
 
+def _style() -> str:
+    """matplotlib's ``rcParams`` as a plot will see them, without importing pyplot (half a
+    second: a warm picture is a file copy).  The Agg backend is selected as
+    :func:`pyplot` selects it; the ``backend`` entry itself is left out (it reads as a
+    placeholder until pyplot is imported, and every picture is drawn on Agg)."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise MissingDependencyError("matplotlib", "plots") from None
+    matplotlib.use("Agg")
+    return repr(sorted((k, v) for k, v in matplotlib.rcParams.items() if k != "backend"))
+
+
 def picture_from_inputs(plot: Callable[..., Path]) -> Callable[..., Path]:
     """Decorate ``plot(path, *inputs, **options) -> path`` so that a ``.png`` it drew
     before from equal inputs is written from the cache without building the figure.
@@ -123,8 +136,7 @@ def picture_from_inputs(plot: Callable[..., Path]) -> Callable[..., Path]:
         except Exception as exc:  # noqa: BLE001 - any input that will not pickle is drawn
             log.debug("inputs of %s not cacheable (%s): drawn", plot.__qualname__, exc)
             return plot(path, *inputs, **options)
-        # the style as the plot will see it: importing pyplot sets the backend's defaults
-        style = repr(sorted(pyplot().rcParams.items()))
+        style = _style()
         key = picture_key("inputs", plot.__module__, plot.__qualname__, package_digest(),
                           hashlib.sha256(blob).hexdigest(), style,
                           libraries=("matplotlib", "pillow"))

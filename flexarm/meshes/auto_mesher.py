@@ -31,6 +31,7 @@ from .local_size import LocalSize, local_sizes_key
 from .self_intersections import united_surface
 from .tet_cache import (
     MESHER_LIBRARY,
+    MESHER_SETTINGS,
     MESHERS,
     cached_mesh,
     check_mesh_request,
@@ -45,8 +46,6 @@ __all__ = ["MESHER_SETTINGS", "SurfaceMesh", "mesh_surface", "cached_surface_mes
 
 logger = logging.getLogger(__name__)
 
-#: The values of a ``mesher`` setting: a tetrahedraliser, or ``"auto"``.
-MESHER_SETTINGS = ("auto", *MESHERS)
 
 #: Part of the choice entry's key: a new recipe never reuses an old choice.
 _CHOICE_VERSION = 1

@@ -19,7 +19,8 @@ from ..fe.tolerances import tol as fe_tol
 from .formats import npz
 from .tolerances import tol
 
-__all__ = ["tet_cache_key", "mesher_key_parts", "TET_CODEC", "MESHERS", "MESHER_LIBRARY",
+__all__ = ["tet_cache_key", "mesher_key_parts", "TET_CODEC", "MESHERS", "MESHER_SETTINGS",
+           "MESHER_LIBRARY",
            "cached_tetrahedralization", "cached_mesh", "estimated_tets", "check_mesh_request",
            "MAX_TETS", "BYTES_PER_TET"]
 
@@ -28,6 +29,9 @@ logger = logging.getLogger(__name__)
 #: The tetrahedralisers (``mesher=`` settings) and the PyPI package that does the work.
 MESHERS = ("tetwild", "gmsh")
 MESHER_LIBRARY = {"tetwild": "pytetwild", "gmsh": "gmsh"}
+#: The values of a ``mesher`` setting: a tetrahedraliser, or ``"auto"`` (here, with the
+#: meshers, so that checking a robot file's setting loads no mesher).
+MESHER_SETTINGS = ("auto", *MESHERS)
 #: Most tetrahedra a request may be estimated to give: more would not fit a workstation's
 #: memory in the mesher, let alone in the FE solve that follows.
 MAX_TETS = 2_000_000

@@ -97,14 +97,12 @@ def pinned_mesh(link: Link, mesh_size: float, order: int = 1) -> TetMesh | None:
 def _read_checked(path: str, mtime_ns: int, n_bytes: int, name: str, key: str, cad: str,
                   units: str) -> TetMesh:
     """Read once per file version; check the volume against the CAD's."""
-    from ..meshes import load_surface
     from ..meshes.volume_io import read_volume_mesh
 
     mesh = read_volume_mesh(path)
     if cad:
-        surface = load_surface(cad, units=units)
-        volume, solid = float(mesh.volumes().sum()), float(surface.volume)
-        bounds = np.asarray(surface.bounds, dtype=np.float64)
+        solid, bounds = _cad_volume_and_bounds(cad, units)
+        volume = float(mesh.volumes().sum())
         off = max(np.abs(mesh.points.min(axis=0) - bounds[0]).max(),
                   np.abs(mesh.points.max(axis=0) - bounds[1]).max())
         what = ""
@@ -116,3 +114,20 @@ def _read_checked(path: str, mtime_ns: int, n_bytes: int, name: str, key: str, c
             raise ValueError(f"links.{name}.volume_meshes.'{key}': {Path(path).name} {what}: "
                              f"not a mesh of this link in metres and the link frame")
     return mesh
+
+
+def _cad_volume_and_bounds(cad: str, units: str) -> tuple[float, np.ndarray]:
+    """Volume [m^3] the CAD file encloses and its (2, 3) bounding box [m], cached by the
+    file's bytes: a command on a robot with pinned meshes need not read its CAD again."""
+    from ..fe.cache import cache_key, cached
+    from ..fe.files import file_digest
+
+    def measure() -> dict:
+        from ..meshes import load_surface
+
+        surface = load_surface(cad, units=units)
+        return {"volume": float(surface.volume),
+                "bounds": np.asarray(surface.bounds, dtype=np.float64).tolist()}
+
+    d = cached("cad-extent", cache_key("cad-extent", file_digest(cad), units), measure).value
+    return float(d["volume"]), np.asarray(d["bounds"], dtype=np.float64)

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..fe.files import atomic_path
-from ..fe.plotting import pyplot
+from ..fe.plotting import picture_from_inputs, pyplot
 from .arm_study_results import StudyResult
 
 __all__ = ["plot_error_vs_dof", "plot_pareto", "representation_label"]
@@ -47,6 +47,7 @@ def _bottom_row(ax, rows, reps, attr: str, what: str, floor: float, ref_coupling
            ylabel=f"largest relative error [-], {what}")
 
 
+@picture_from_inputs
 def plot_error_vs_dof(path, result: StudyResult) -> Path:
     """Log-log PNG: worst frequency / compliance error against reduced DOF (top) and
     against link FE DOF (bottom); one line per mesh and representation (top) or per
@@ -117,6 +118,7 @@ def _mesh_error_lines(axes, result: StudyResult) -> None:
                        label="mesh error, Richardson estimate")
 
 
+@picture_from_inputs
 def plot_pareto(path, result: StudyResult) -> Path:
     """PNG: worst error against build + solve time, Pareto front drawn as a step line."""
     plt = pyplot()

@@ -23,7 +23,7 @@ from ..assembly.emodel import emodel
 from ..assembly.flexible import flexible_arm
 from ..assembly.full_fe import full_fe_analysis, full_fe_bodies
 from ..fe.files import atomic_path, writes_folder
-from ..fe.plotting import pyplot
+from ..fe.plotting import picture_from_inputs, pyplot
 from ..fe.typing import FloatArray
 from ..robot.description import Robot, pose_from_string
 from ..validation.dynamic.mac import mac, pair_modes
@@ -137,9 +137,6 @@ def _write(report: ComparisonReport, out: Path, poses: list[str]) -> tuple[Path,
     behind the plot in ``model_comparison_bode.csv`` (pose, model, ``freq_Hz``,
     ``abs_Hyy_m_per_N``; SI) and ``model_comparison_bode.png`` (drawn in
     :data:`~flexarm.studies.plots.RECEPTANCE_UNIT`)."""
-    from .plots import RECEPTANCE_SCALE, RECEPTANCE_UNIT
-
-    plt = pyplot()
     out.mkdir(parents=True, exist_ok=True)
     rows = report.rows()
     keys = list(dict.fromkeys(k for r in rows for k in r))
@@ -155,22 +152,33 @@ def _write(report: ComparisonReport, out: Path, poses: list[str]) -> tuple[Path,
         w.writerow(["pose", "model", "freq_Hz", "abs_Hyy_m_per_N"])
         w.writerows([r.pose, r.model, f"{f:.10g}", f"{h:.10g}"]
                     for r in curves for f, h in zip(report.bode_freq_hz, r.bode, strict=True))
+    bode = [(r.pose, r.model, r.bode) for r in curves]
+    png = _bode_png(out / "model_comparison_bode.png", poses, report.bode_freq_hz, bode)
+    return path, bode_csv, png
+
+
+@picture_from_inputs
+def _bode_png(path, poses: list[str], freq_hz, curves: list[tuple]) -> Path:
+    """``model_comparison_bode.png``: one panel per pose of ``|H_yy|`` of each
+    ``(pose, model, |H_yy| [m/N])`` curve."""
+    from .plots import RECEPTANCE_SCALE, RECEPTANCE_UNIT
+
+    plt = pyplot()
     fig, axes = plt.subplots(1, len(poses), figsize=(5 * len(poses), 4), squeeze=False)
     for ax, pose in zip(axes[0], poses, strict=True):
-        for r in curves:
-            if r.pose == pose:
-                ax.loglog(report.bode_freq_hz, r.bode * RECEPTANCE_SCALE, label=r.model)
+        for at, model, h in curves:
+            if at == pose:
+                ax.loglog(freq_hz, h * RECEPTANCE_SCALE, label=model)
         ax.set(title=f"{pose}: TCP receptance Y/Y", xlabel="frequency [Hz]",
                ylabel=f"|H_yy| [{RECEPTANCE_UNIT}]")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    models = list(dict.fromkeys(r.model for r in curves))
+    models = list(dict.fromkeys(model for _, model, _ in curves))
     fig.suptitle("TCP receptance: " + " vs ".join(models), fontsize=10)
     fig.tight_layout()
-    png = out / "model_comparison_bode.png"
-    fig.savefig(png, dpi=110)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
-    return path, bode_csv, png
+    return Path(path)
 
 
 def compare_models(

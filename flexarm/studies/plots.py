@@ -7,16 +7,17 @@ from pathlib import Path
 import numpy as np
 
 from ..fe.files import atomic_path, writes_folder
-from ..fe.plotting import pyplot, save_figure
+from ..fe.plotting import picture_from_inputs, pyplot, save_figure
 from ..fe.typing import FloatArray
 from ..fe.units import RECEPTANCE_SCALE, RECEPTANCE_UNIT
 
 __all__ = ["plot_frf", "plot_mode_energy", "write_mode_energy", "RECEPTANCE_UNIT",
            "RECEPTANCE_SCALE"]
 
+@picture_from_inputs
 def plot_frf(path, freq_hz: FloatArray, H: FloatArray, title: str = "") -> Path:
     """Bode plot of the direct TCP receptances H_xx, H_yy, H_zz (nf, 6, 6) [m/N], drawn
-    in :data:`RECEPTANCE_UNIT`."""
+    in :data:`RECEPTANCE_UNIT` (a PNG drawn before from the same inputs is copied)."""
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
     for d, name in enumerate("xyz"):

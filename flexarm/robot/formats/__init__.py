@@ -6,13 +6,21 @@ describe paths, not robots; :mod:`~flexarm.robot.formats.krl` (KUKA KRL) and
 
 from ...fe.errors import ReadError
 from ...fe.formats import FormatRegistry
-from . import toml, urdf
+from . import toml
 from .link_units import check_link_units
 
 #: The robot description formats (:class:`~flexarm.fe.formats.FormatRegistry`).
 registry = FormatRegistry("robot description")
 registry.register("toml", (".toml",), toml.read, toml.write)
-registry.register("urdf", (".urdf",), urdf.read)
+registry.register("urdf", (".urdf",), lambda path, **options: _urdf().read(path, **options))
+
+
+def _urdf():
+    """The URDF reader's module, imported when a URDF is read: it loads the CAD-surface
+    tools (trimesh), which a command on a TOML robot never needs."""
+    from . import urdf
+
+    return urdf
 
 
 def read(path, **options):

@@ -29,12 +29,20 @@ SIZE_RATIO = (0.1, 100.0)
 
 def _extent(path) -> float | None:
     """Largest bounding-box extent of a CAD file in its own units (None if unreadable:
-    the mesher reports that file with its own message)."""
-    import trimesh
+    the mesher reports that file with its own message), cached by the file's bytes: every
+    command reads its robot, and the CAD need not be parsed each time."""
+    from ...fe.cache import cache_key, cached
+    from ...fe.files import file_digest
+
+    def measure() -> dict:
+        import trimesh
+
+        mesh = trimesh.load(path, force="mesh", process=False)
+        return {"extent": float(np.ptp(np.asarray(mesh.vertices), axis=0).max())}
 
     try:
-        mesh = trimesh.load(path, force="mesh", process=False)
-        return float(np.ptp(np.asarray(mesh.vertices), axis=0).max())
+        key = cache_key("cad-extent", "raw", file_digest(path))
+        return float(cached("cad-extent", key, measure).value["extent"])
     except Exception as exc:  # noqa: BLE001 - any reader failure: leave it to the mesher
         log.info("%s: not checked against the joints (%s)", path, exc)
         return None

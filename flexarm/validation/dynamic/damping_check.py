@@ -31,6 +31,7 @@ from ...fe.plotting import pyplot, save_figure
 from ...fe.typing import PathType
 from ...robot.description import Robot
 from ..data.measurements import ModalData
+from ..distributions import chi2_isf, chi2_sf
 from ..models import DEFAULT_OPTIONS, ValidationOptions
 from ..tolerances import tol
 from .damping_fit import MIN_SHARE, damping_inputs
@@ -189,9 +190,6 @@ def diagnose_damping(data: ModalData | PathType, robot: Robot | PathType | None 
     max_hz : float or None
         Leave out modes above this frequency [Hz] (an identification's band edge).
     """
-    # here, not at the top: scipy.stats takes 0.6 s to import, and most callers of this
-    # package never reach it
-    from scipy.stats import chi2 as chi2_dist
 
     modal, robot, arm, d, zeta = damping_inputs(data, robot, options, max_hz, pose)
     overlap = modal_overlap(modal.freq_hz, modal.damping_ratio, modal.poses)[d.row]
@@ -200,7 +198,7 @@ def diagnose_damping(data: ModalData | PathType, robot: Robot | PathType | None 
     r = (zeta - d.model) / sd
     seen = d.E.max(axis=0) >= MIN_SHARE
     n_cand = int(seen.sum())
-    threshold = float(chi2_dist.isf(alpha / max(n_cand, 1), 1))
+    threshold = float(chi2_isf(alpha / max(n_cand, 1), 1))
     accepted: list[int] = []
     chi_now, _ = _chi2(A, r, accepted)
     chi_before = chi_now
@@ -225,5 +223,5 @@ def diagnose_damping(data: ModalData | PathType, robot: Robot | PathType | None 
         extra[accepted] = _chi2(A, r, accepted)[1]
     dof = max(len(r) - len(accepted), 1)
     return DampingDiagnosis(tuple(accepted), extra, gains, threshold, chi_before, chi_now,
-                            len(r), float(chi2_dist.sf(chi_now, dof)), robot.joint_names,
+                            len(r), float(chi2_sf(chi_now, dof)), robot.joint_names,
                             d.E, zeta / d.model)

@@ -196,10 +196,10 @@ class MeasurementPlan:
         """(h, h) probability that the measured ΔBIC exceeds ``threshold``: the excess
         chi-square is about ``lambda + 2 sqrt(lambda) z`` for expected ``lambda``, z
         standard normal (the fitted hypotheses taken as exact)."""
-        from scipy.stats import norm
+        from ..distributions import norm_cdf
 
         lam = np.maximum(self.expected, 1e-12)
-        return norm.cdf((lam - threshold) / (2 * np.sqrt(lam)))
+        return norm_cdf((lam - threshold) / (2 * np.sqrt(lam)))
 
     def text(self) -> str:
         names = [h.spec for h in self.hypotheses]

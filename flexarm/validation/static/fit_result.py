@@ -78,7 +78,7 @@ class FitResult:
 def chi2_band(dof: float, coverage: float = tol.chi2_band_coverage) -> tuple[float, float]:
     """Exact central ``coverage`` interval of chi^2_red = chi^2(dof) / dof.
 
-    The quantiles are ``scipy.stats.chi2.ppf`` at ``(1 - coverage) / 2`` and
+    The quantiles are chi^2 quantiles (:func:`~flexarm.validation.distributions.chi2_ppf`) at ``(1 - coverage) / 2`` and
     ``(1 + coverage) / 2`` (not the normal approximation ``1 +- z sqrt(2 / dof)``, which
     is too low at both ends: chi^2 is skewed).  ``dof`` may be fractional (effective
     parameter counts, :class:`FitResult`).  The default coverage ``0.99`` (0.5 % and
@@ -92,9 +92,9 @@ def chi2_band(dof: float, coverage: float = tol.chi2_band_coverage) -> tuple[flo
     >>> [round(v, 3) for v in chi2_band(427.0)]
     [0.833, 1.185]
     """
-    from scipy.stats import chi2
+    from ..distributions import chi2_ppf
 
     if not dof > 0:
         raise ValueError(f"chi2_band needs dof > 0, got {dof}")
     a = (1 - coverage) / 2
-    return float(chi2.ppf(a, dof) / dof), float(chi2.ppf(1 - a, dof) / dof)
+    return float(chi2_ppf(a, dof) / dof), float(chi2_ppf(1 - a, dof) / dof)

@@ -133,7 +133,7 @@ def _outliers(res: _Residual, alpha: float, r: np.ndarray, n_fit: float):
     its share of its series' reference) before the next is tested, so an outlier does not
     drag its series' other readings along.
     """
-    from scipy.stats import chi2
+    from ..distributions import chi2_sf
 
     p = res.problem
     rows = res.rows[::3]
@@ -148,7 +148,7 @@ def _outliers(res: _Residual, alpha: float, r: np.ndarray, n_fit: float):
         d2 = ((r / s).reshape(-1, 3) ** 2).sum(axis=1)
         d2[~cand] = 0.0
         k = int(np.argmax(d2))
-        pv = min(1.0, n * float(chi2.sf(d2[k], 3)))
+        pv = min(1.0, n * float(chi2_sf(d2[k], 3)))
         p_first = pv if p_first is None else p_first
         if pv >= alpha:
             break
