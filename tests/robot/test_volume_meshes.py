@@ -108,3 +108,22 @@ def test_toml_slot_round_trips_and_names_bad_entries(demo_robot, tmp_path):
     data["links"][2]["volume_meshes"] = {"fine": str(demo_robot.links[2].volume_meshes[0.03])}
     with pytest.raises(ValueError, match="key 'fine' must be a tet edge length in metres"):
         robot_toml.from_dict(data, tmp_path, source=None)
+
+
+def test_a_second_process_checks_the_pinned_meshes_without_reading_the_cad(tmp_path):
+    """The CAD extents and volumes that the unit and pinned-mesh checks compare with are
+    cached by the file's bytes: the first process on an empty cache reads the STL files
+    (trimesh), the next one builds the demo E-model from its pinned meshes without them."""
+    import os
+    import subprocess
+    import sys
+
+    script = ("import sys\n"
+              "from flexarm.robot import load_robot\n"
+              "from flexarm.assembly.emodel import emodel\n"
+              "emodel(load_robot(), method='tets')\n"
+              "print('trimesh' in sys.modules)\n")
+    env = dict(os.environ, FLEXARM_CACHE=str(tmp_path / "cache"))
+    seen = [subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
+                           text=True, check=True).stdout.split()[-1] for _ in range(2)]
+    assert seen == ["True", "False"]
