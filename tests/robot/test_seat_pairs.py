@@ -8,7 +8,7 @@ import math
 import pytest
 
 from flexarm.robot.description import Region
-from flexarm.robot.seat_pairs import PAIR_GAP, SeatPair, seat_pairs
+from flexarm.robot.seat_pairs import PAIR_GAP, SeatPair, SeatSide, pair_holds, seat_pairs
 from flexarm.robot.seat_review import ReviewRegion
 
 from .test_seat_facing import _turret
@@ -61,3 +61,19 @@ def test_pair_status_order():
     p = SeatPair("j", "a", "b", 0.001, 0.01, 10, 10)
     assert p.ok and p.status == "ok"
     assert dataclasses.replace(p, gap=-0.0051).status == "gap 5.1 mm > 5 mm along the axis"
+
+
+def test_a_bore_pair_at_the_limit_holds_within_float32_round_off():
+    """The demo arm's base bore and frame seat: a 5 mm design gap that the float32 STL
+    coordinates read as 5.0000128 mm holds; 1 um more than the slack does not, and says
+    how far the bore's range is from the other seat's."""
+    p = SeatPair("j", "a", "b", 0.0553, 0.01, 10, 10, held="bore", reach=0.005000012815)
+    assert p.ok and p.status == "ok (bore)"
+    far = dataclasses.replace(p, reach=PAIR_GAP + 2e-6)
+    assert not far.ok
+    assert far.status == ("gap 55.3 mm > 5 mm along the axis (the bore seat's range "
+                          "5.0 mm from the other's)")
+    parent = SeatSide(10, 0.0, 0.0, 0.05, -0.01, 0.0, "bore")
+    child = SeatSide(10, 0.03, 0.0, 0.05, 0.005000012815, 0.04, "face")
+    assert pair_holds(parent, child)
+    assert not pair_holds(parent, dataclasses.replace(child, t_lo=PAIR_GAP + 2e-6))
