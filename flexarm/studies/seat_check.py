@@ -134,7 +134,7 @@ def pairs_line(checks) -> str:
     --------
     >>> from flexarm.robot import load_robot
     >>> print(pairs_line(pair_checks(load_robot())))  # doctest: +NORMALIZE_WHITESPACE
-    seat pairs: 4 of 6 within 5 mm along the joint axis or spanning it (gaps -82.1 to
+    seat pairs: 5 of 6 within 5 mm along the joint axis or spanning it (gaps -82.1 to
     185.6 mm); at least about 10 FE nodes a side at 30 mm (`flexarm build` counts them on
     the mesh)
     """
